@@ -1,0 +1,34 @@
+"""mechsynth: optimization-based mechanism synthesis.
+
+Kinematic and force models of linkages, written once, serve numpy analysis (vectorized over crank
+angles and designs), CasADi exact derivatives for IPOPT, and cvxpy convex subproblems.
+
+>>> import mechsynth as ms
+>>> sc = ms.SliderCrank(crank=0.07, rod=0.24, offset=0.0)
+>>> m = sc.motion(ms.cycle(720), speed=ms.rpm(600))
+"""
+
+from . import kinematics
+from .errors import MechanismError, SolverError
+from .kinematics import FourBar, Motion, SliderCrank
+from .units import cycle, deg, dms, inch, rpm, spm, to_deg, to_inch, to_rpm
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "kinematics",
+    "MechanismError",
+    "SolverError",
+    "SliderCrank",
+    "FourBar",
+    "Motion",
+    "cycle",
+    "deg",
+    "dms",
+    "inch",
+    "rpm",
+    "spm",
+    "to_deg",
+    "to_inch",
+    "to_rpm",
+]

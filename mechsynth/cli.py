@@ -1,0 +1,95 @@
+"""The ``mechsynth`` command line.
+
+Every command has ``--help``; commands that compute write figures and tables into ``--out DIR``
+and print machine-readable results with ``--json``. A failed or infeasible optimization exits
+with status 2; bad input exits with status 1 and a one-line message.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from . import __version__
+from .errors import MechanismError, SolverError
+from .jsonutil import dumps
+
+__all__ = ["main", "build_parser"]
+
+EXIT_BAD_INPUT = 1
+EXIT_FAILED = 2
+
+
+def _add_output_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--out", metavar="DIR", help="write figures and tables into DIR")
+    p.add_argument("--json", action="store_true", help="print machine-readable JSON results")
+
+
+# ------------------------------------------------------------------------------- study
+def _add_study(sub) -> None:
+    p = sub.add_parser("study", help="reproduce the source papers' studies")
+    ssub = p.add_subparsers(dest="study_cmd", required=True, metavar="{list,run}")
+    pl = ssub.add_parser("list", help="list the studies")
+    pl.add_argument("--json", action="store_true", help="print the list as JSON")
+    pl.add_argument("--out", metavar="DIR", help="(unused; accepted for uniformity)")
+    pl.set_defaults(func=_study_list)
+    pr = ssub.add_parser("run", help="run a study and compare with the published values")
+    pr.add_argument("name", help="study name (see 'mechsynth study list')")
+    _add_output_options(pr)
+    pr.set_defaults(func=_study_run)
+
+
+def _study_list(args) -> int:
+    from .studies import STUDIES
+
+    if args.json:
+        print(dumps({name: desc for name, (_, desc) in STUDIES.items()}))
+    else:
+        for name, (_, desc) in STUDIES.items():
+            print(f"{name:20s} {desc}")
+    return 0
+
+
+def _study_run(args) -> int:
+    from .studies import run_study
+
+    result = run_study(args.name, out=args.out)
+    if args.json:
+        print(dumps(result.data))
+    else:
+        print(result.summary)
+        if result.errata:
+            print("\nErrata found in the source:")
+            for line in result.errata:
+                print(f"  - {line}")
+        if result.files:
+            print("\nWritten:")
+            for f in result.files:
+                print(f"  {f}")
+    return 0
+
+
+# ------------------------------------------------------------------------------- main
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="mechsynth",
+        description="Optimization-based mechanism synthesis: analysis, optimization, design charts.",
+    )
+    parser.add_argument("--version", action="version", version=f"mechsynth {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    _add_study(sub)
+    return parser
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return int(args.func(args) or 0)
+    except (MechanismError, ValueError, SolverError, FileNotFoundError) as exc:
+        print(f"mechsynth: error: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

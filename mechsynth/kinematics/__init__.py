@@ -1,0 +1,29 @@
+"""Geometry and motion: building blocks (crank, dyads) and the named mechanisms built from them."""
+
+from . import ops
+from .blocks import coupler_point, crank, dyad_rpr, dyad_rrp, dyad_rrr, link_angle
+from .four_bar import FourBar, Grashof, grashof
+from .mechanism import Mechanism
+from .slider_crank import SliderCrank
+from .tracks import Jet, LinkTrack, Motion, PointJet, PointTrack, SliderTrack
+
+__all__ = [
+    "ops",
+    "crank",
+    "dyad_rrr",
+    "dyad_rrp",
+    "dyad_rpr",
+    "coupler_point",
+    "link_angle",
+    "Mechanism",
+    "SliderCrank",
+    "FourBar",
+    "Grashof",
+    "grashof",
+    "Jet",
+    "PointJet",
+    "PointTrack",
+    "LinkTrack",
+    "SliderTrack",
+    "Motion",
+]

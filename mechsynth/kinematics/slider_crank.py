@@ -1,0 +1,152 @@
+"""The offset slider-crank: crank OA, rod AB, slider B on a straight guide parallel to +x.
+
+Conventions
+-----------
+* Crank pivot O at the origin; crank angle ``phi`` from +x, counter-clockwise.
+* The guide is the line ``y = offset`` (offset > 0: guide above the crank pivot).
+* The slider position is the x coordinate of B (m); velocity and acceleration are along +x.
+  The outer dead centre is the largest x, the inner dead centre the smallest.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from . import ops
+from .blocks import coupler_point, crank, dyad_rrp
+from .mechanism import Mechanism, check_finite, check_length, fail_where, speed_pair
+from .tracks import Jet, LinkTrack, Motion, PointJet, PointTrack, SliderTrack
+
+__all__ = ["SliderCrank"]
+
+
+@dataclass(frozen=True)
+class SliderCrank(Mechanism):
+    """Offset slider-crank with a fully rotating crank.
+
+    Parameters
+    ----------
+    crank : crank length OA (m), > 0.
+    rod : rod (connecting rod) length AB (m); must exceed ``crank + |offset|`` so the crank turns.
+    offset : signed distance of the guide line from the crank pivot (m); the guide is ``y = offset``.
+
+    Examples
+    --------
+    >>> import mechsynth as ms
+    >>> sc = ms.SliderCrank(crank=0.07, rod=0.24)
+    >>> round(sc.stroke, 6)
+    0.14
+    >>> m = sc.motion(ms.cycle(360), speed=ms.rpm(600))
+    >>> m.slider.velocity.shape
+    (360,)
+    """
+
+    crank: float
+    rod: float
+    offset: float = 0.0
+
+    parameters: ClassVar[tuple[str, ...]] = ("crank", "rod", "offset")
+    default_output: ClassVar[str] = "slider"
+
+    def __post_init__(self):
+        object.__setattr__(self, "crank", check_length("crank", self.crank))
+        object.__setattr__(self, "rod", check_length("rod", self.rod))
+        object.__setattr__(self, "offset", check_finite("offset", self.offset))
+        a, b, e = self.crank, self.rod, self.offset
+        if not ops.is_symbolic(a, b, e):
+            reach = a + np.abs(e)
+            fail_where(
+                np.asarray(b) <= reach,
+                "rod ({b} m) not longer than crank + |offset| ({r} m){at}: "
+                "the crank cannot make a full turn",
+                b=b,
+                r=reach,
+            )
+
+    # ---------------------------------------------------------------- kinematics
+    def jets(self, phi):
+        """Jets of the crank pin A, the slider B, the slider position and the rod angle."""
+        a = crank(phi, self.crank)
+        b, s, rod = dyad_rrp(a, self.rod, 0.0, self.offset, 0.0, branch=1, phi=phi)
+        return a, b, s, rod
+
+    def motion(self, phi, speed=None, epsilon=0.0, coupler_points=None) -> Motion:
+        """Motion over crank angles ``phi`` (rad).
+
+        Parameters
+        ----------
+        phi : crank angles, any shape (broadcast against array parameters).
+        speed : crank angular velocity (rad/s, ``ms.rpm(600)``); None gives analogs.
+        epsilon : crank angular acceleration (rad/s^2), with a speed.
+        coupler_points : ``{name: (u, v)}`` points fixed on the rod, ``u`` (m) along A -> B from A
+            and ``v`` (m) to its left; their tracks appear in ``motion.points``.
+
+        Returns
+        -------
+        Motion with points ``"A"``, ``"B"`` (and coupler points), links ``"crank"`` and ``"rod"``,
+        slider ``"B"`` (``motion.slider``), pressure and transmission angles.
+        """
+        omega, eps = speed_pair(speed, epsilon)
+        a, b, s, rod = self.jets(phi)
+        crank_jet = Jet(phi + 0.0 * self.crank, 1.0 + 0.0 * a.x, 0.0 * a.x)
+        points = {"A": a, "B": b}
+        for name, (u, v) in (coupler_points or {}).items():
+            points[name] = coupler_point(a, rod, u, v)
+        pressure = ops.arcsin(ops.fabs(self.offset - a.y) / self.rod)
+        return Motion(
+            phi=phi,
+            omega=omega,
+            epsilon=eps,
+            points={k: PointTrack.from_jet(p, omega, eps) for k, p in points.items()},
+            links={
+                "crank": LinkTrack.from_jet(crank_jet, omega, eps),
+                "rod": LinkTrack.from_jet(rod, omega, eps),
+            },
+            sliders={"B": SliderTrack.from_jet(s, omega, eps)},
+            pressure_angle=pressure,
+            transmission_angle=np.pi / 2 - pressure,
+        )
+
+    def coupler_jet(self, phi, u, v) -> PointJet:
+        """Jet of a point fixed on the rod (see ``motion``'s ``coupler_points``)."""
+        a, _, _, rod = self.jets(phi)
+        return coupler_point(a, rod, u, v)
+
+    # ---------------------------------------------------------------- cycle properties
+    @property
+    def dead_centres(self):
+        """Crank angles (rad) of the outer and inner dead centres, ``(phi_outer, phi_inner)``.
+
+        ``phi_outer`` lies in (-pi/2, pi/2), ``phi_inner = pi + asin(offset / (rod - crank))``.
+        """
+        a, b, e = self.crank, self.rod, self.offset
+        return ops.arcsin(e / (a + b)), np.pi + ops.arcsin(e / (b - a))
+
+    @property
+    def dead_centre_positions(self):
+        """Slider positions (m) at the outer and inner dead centres."""
+        a, b, e = self.crank, self.rod, self.offset
+        return ops.sqrt((a + b) ** 2 - e * e), ops.sqrt((b - a) ** 2 - e * e)
+
+    @property
+    def stroke(self):
+        """Slider stroke (m) between the dead centres."""
+        outer, inner = self.dead_centre_positions
+        return outer - inner
+
+    @property
+    def crank_spans(self):
+        """Crank rotation (rad) for the inward stroke (outer -> inner dead centre) and the outward
+        stroke, with the crank turning counter-clockwise. They add up to 2 pi."""
+        outer, inner = self.dead_centres
+        inward = inner - outer
+        return inward, 2.0 * np.pi - inward
+
+    @property
+    def time_ratio(self):
+        """Time ratio of the slower stroke to the quicker one (>= 1; 1 for a centric design)."""
+        inward, outward = self.crank_spans
+        return ops.fmax(inward, outward) / ops.fmin(inward, outward)

@@ -1,0 +1,58 @@
+"""Reproducible studies of the source papers, each comparing with the published values.
+
+A study is a module with a ``run(out=None, **options) -> StudyResult`` function, registered in
+:data:`STUDIES` by name. ``mechsynth study run NAME --out DIR`` runs it from the command line.
+"""
+
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+__all__ = ["StudyResult", "STUDIES", "get_study", "run_study"]
+
+#: name -> (module, one-line description)
+STUDIES: dict[str, tuple[str, str]] = {
+    "extreme-velocity": (
+        "mechsynth.studies.extreme_velocity",
+        "Paper 004: extreme slider velocities of the slider-crank (Table 1, errata in lambda_s)",
+    ),
+}
+
+
+@dataclass
+class StudyResult:
+    """What a study produced.
+
+    Attributes
+    ----------
+    name : the study's registry name.
+    summary : human-readable report (tables with published vs computed values, deviations).
+    data : JSON-serializable results (what ``--json`` prints).
+    files : figures and tables written to ``out``.
+    errata : errors found in the source, one sentence each.
+    """
+
+    name: str
+    summary: str
+    data: dict[str, Any]
+    files: list[Path] = field(default_factory=list)
+    errata: list[str] = field(default_factory=list)
+
+
+def get_study(name: str):
+    """The study module registered as ``name``."""
+    if name not in STUDIES:
+        known = ", ".join(sorted(STUDIES))
+        raise ValueError(f"unknown study {name!r}; known studies: {known}")
+    return importlib.import_module(STUDIES[name][0])
+
+
+def run_study(name: str, out=None, **options) -> StudyResult:
+    """Run the study ``name``, writing figures and tables into ``out`` (a directory) if given."""
+    out_dir = None if out is None else Path(out)
+    if out_dir is not None:
+        out_dir.mkdir(parents=True, exist_ok=True)
+    return get_study(name).run(out=out_dir, **options)

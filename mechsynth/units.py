@@ -1,0 +1,69 @@
+"""Unit helpers. mechsynth works in SI inside: m, kg, s, rad, N.
+
+These helpers convert the units engineers type (degrees, rpm, strokes per minute, inches) into SI
+and back. All accept scalars or arrays.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["deg", "to_deg", "rpm", "to_rpm", "spm", "inch", "to_inch", "cycle", "dms"]
+
+
+def deg(value):
+    """Degrees -> radians."""
+    return _scale(value, np.pi / 180.0)
+
+
+def to_deg(value):
+    """Radians -> degrees."""
+    return _scale(value, 180.0 / np.pi)
+
+
+def _scale(value, factor):
+    if np.ndim(value):
+        return np.asarray(value, dtype=float) * factor
+    return float(value) * factor
+
+
+def rpm(value):
+    """Revolutions per minute -> rad/s."""
+    return _scale(value, 2.0 * np.pi / 60.0)
+
+
+def to_rpm(value):
+    """rad/s -> revolutions per minute."""
+    return _scale(value, 60.0 / (2.0 * np.pi))
+
+
+def spm(value):
+    """Strokes per minute of a pumping unit (one crank turn per stroke) -> crank speed in rad/s."""
+    return rpm(value)
+
+
+def inch(value):
+    """Inches -> metres."""
+    return _scale(value, 0.0254)
+
+
+def to_inch(value):
+    """Metres -> inches."""
+    return _scale(value, 1.0 / 0.0254)
+
+
+def cycle(n: int = 360, *, start: float = 0.0, endpoint: bool = False) -> np.ndarray:
+    """``n`` equally spaced crank angles over one turn, in radians, starting at ``start``.
+
+    The end point (``start + 2*pi``) is left out by default, so that every angle of the cycle is
+    counted once in peaks and means.
+    """
+    n = int(n)
+    if n < 2:
+        raise ValueError(f"cycle: n must be at least 2, got {n}")
+    return start + np.linspace(0.0, 2.0 * np.pi, n, endpoint=endpoint)
+
+
+def dms(degrees: float, minutes: float = 0.0, seconds: float = 0.0) -> float:
+    """Degrees, arc-minutes and arc-seconds -> radians (``dms(65, 59, 47)``)."""
+    return float(np.deg2rad(degrees + minutes / 60.0 + seconds / 3600.0))
