@@ -73,7 +73,7 @@ def _study_run(args) -> int:
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="mechsynth",
-        description="Optimization-based mechanism synthesis: analysis, optimization, design charts.",
+        description="Optimization-based mechanism synthesis: analysis, optimization, charts.",
     )
     parser.add_argument("--version", action="version", version=f"mechsynth {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")

@@ -40,7 +40,9 @@ def _check_nonnegative(value, scale, what, phi=None):
         if phi is not None and not ops.is_symbolic(phi):
             ph = np.broadcast_to(np.asarray(phi, dtype=float), bad.shape)[idx]
             where = f" at crank angle {np.rad2deg(ph):.6g} deg"
-        raise MechanismError(f"{what}{where}: the dyad cannot be assembled (deficit {value[idx]:.6g})")
+        raise MechanismError(
+            f"{what}{where}: the dyad cannot be assembled (deficit {value[idx]:.6g})"
+        )
     return np.maximum(value, 0.0)
 
 
@@ -51,7 +53,9 @@ def crank(phi, length, x0=0.0, y0=0.0, phase=0.0) -> PointJet:
     """
     c = ops.cos(phi + phase)
     s = ops.sin(phi + phase)
-    return PointJet(x0 + length * c, y0 + length * s, -length * s, length * c, -length * c, -length * s)
+    return PointJet(
+        x0 + length * c, y0 + length * s, -length * s, length * c, -length * c, -length * s
+    )
 
 
 def link_angle(p: PointJet, q: PointJet) -> Jet:

@@ -147,13 +147,18 @@ class FourBar(Mechanism):
     def grashof(self) -> Grashof:
         """Grashof classification with its margin (single designs only)."""
         if np.ndim(self.crank) or ops.is_symbolic(self.crank):
-            raise ValueError("grashof classifies one numeric design; use grashof_margin for batches")
+            raise ValueError(
+                "grashof classifies one numeric design; use grashof_margin for batches"
+            )
         return grashof(self.crank, self.coupler, self.rocker, self.ground)
 
     @property
     def grashof_margin(self):
         """``(p + q) - (s + l)`` (m), vectorized over designs."""
-        ls = np.sort(np.stack(np.broadcast_arrays(self.crank, self.coupler, self.rocker, self.ground)), axis=0)
+        ls = np.sort(
+            np.stack(np.broadcast_arrays(self.crank, self.coupler, self.rocker, self.ground)),
+            axis=0,
+        )
         return ls[1] + ls[2] - ls[0] - ls[3]
 
     # ---------------------------------------------------------------- kinematics
@@ -210,7 +215,9 @@ class FourBar(Mechanism):
     def _require_crank_rocker(self, what: str):
         if ops.is_symbolic(self.crank, self.coupler, self.rocker, self.ground):
             return
-        a, b, c, d = (np.asarray(x, dtype=float) for x in (self.crank, self.coupler, self.rocker, self.ground))
+        a, b, c, d = (
+            np.asarray(x, dtype=float) for x in (self.crank, self.coupler, self.rocker, self.ground)
+        )
         shortest = np.minimum(np.minimum(b, c), d)
         fail_where(
             (a >= shortest) | ~self._rotates(a, b, c, d),

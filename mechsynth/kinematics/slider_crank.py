@@ -31,7 +31,7 @@ class SliderCrank(Mechanism):
     ----------
     crank : crank length OA (m), > 0.
     rod : rod (connecting rod) length AB (m); must exceed ``crank + |offset|`` so the crank turns.
-    offset : signed distance of the guide line from the crank pivot (m); the guide is ``y = offset``.
+    offset : signed distance (m) of the guide from the crank pivot; the guide is ``y = offset``.
 
     Examples
     --------

@@ -29,7 +29,7 @@ __all__ = ["Measure", "CycleMeasure", "ScalarMeasure", "Combination", "Constrain
 
 
 def reduce_cycle(values, how: str):
-    """Reduce per-angle ``values`` over the cycle (last numpy axis; all entries of a CasADi column)."""
+    """Reduce per-angle ``values`` over the cycle (last numpy axis, or a whole CasADi column)."""
     if ops.is_symbolic(values):
         import casadi as ca
 
@@ -116,8 +116,9 @@ class CycleMeasure(Measure):
     """A per-angle quantity ``per_angle(mechanism, motion)`` reduced over the cycle by ``reduce``
     (``"max"``, ``"min"``, ``"mean"``, ``"rms"``)."""
 
-    def __init__(self, name: str, per_angle: Callable[[Any, Any], Any], reduce: str = "max",
-                 unit: str = ""):
+    def __init__(
+        self, name: str, per_angle: Callable[[Any, Any], Any], reduce: str = "max", unit: str = ""
+    ):
         if reduce not in ("max", "min", "mean", "rms"):
             raise ValueError(f"reduce must be max, min, mean or rms, got {reduce!r}")
         self.name, self.per_angle, self.reduce, self.unit = name, per_angle, reduce, unit
