@@ -53,7 +53,47 @@ def _study_list(args) -> int:
 def _study_run(args) -> int:
     from .studies import run_study
 
-    result = run_study(args.name, out=args.out)
+    return _print_result(run_study(args.name, out=args.out), args)
+
+
+# ------------------------------------------------------------------------------- chart
+#: chart name -> (module, function, description). The function takes ``(out, options)`` -- ``out``
+#: a directory or None, ``options`` a dict of ``--set key=value`` strings -- and returns a
+#: :class:`~mechsynth.studies.StudyResult`.
+CHARTS: dict[str, tuple[str, str, str]] = {}
+
+
+def _add_chart(sub) -> None:
+    p = sub.add_parser("chart", help="sweep a design grid and draw a design chart (nomogram)")
+    p.add_argument("name", help="chart name: " + ", ".join(sorted(CHARTS)) if CHARTS else "chart")
+    p.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="chart option (repeatable), e.g. --set gamma_deg=0,15,30",
+    )
+    _add_output_options(p)
+    p.set_defaults(func=_chart_run)
+
+
+def _chart_run(args) -> int:
+    import importlib
+
+    if args.name not in CHARTS:
+        raise ValueError(f"unknown chart {args.name!r}; known charts: {', '.join(sorted(CHARTS))}")
+    options = {}
+    for item in args.set:
+        key, sep, value = item.partition("=")
+        if not sep:
+            raise ValueError(f"--set expects KEY=VALUE, got {item!r}")
+        options[key.strip()] = value.strip()
+    module, function, _ = CHARTS[args.name]
+    result = getattr(importlib.import_module(module), function)(args.out, options)
+    return _print_result(result, args)
+
+
+def _print_result(result, args) -> int:
     if args.json:
         print(dumps(result.data))
     else:
@@ -78,6 +118,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"mechsynth {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     _add_study(sub)
+    _add_chart(sub)
     return parser
 
 

@@ -182,13 +182,15 @@ class FourBar(Mechanism):
 
         Returns
         -------
-        Motion with points ``"A"``, ``"B"`` (and coupler points), links ``"crank"``, ``"coupler"``,
-        ``"rocker"``, and the transmission and pressure angles.
+        Motion with points ``"O1"``, ``"A"``, ``"B"``, ``"O2"`` (and coupler points), links
+        ``"crank"``, ``"coupler"``, ``"rocker"``, and the transmission and pressure angles.
         """
         omega, eps = speed_pair(speed, epsilon)
         a, b, coupler, rocker = self.jets(phi)
         crank_jet = Jet(phi + 0.0 * a.x, 1.0 + 0.0 * a.x, 0.0 * a.x)
-        points = {"A": a, "B": b}
+        o1 = PointJet.fixed(0.0 * a.x, 0.0 * a.x)
+        o2 = PointJet.fixed(self.ground + 0.0 * a.x, 0.0 * a.x)
+        points = {"O1": o1, "A": a, "B": b, "O2": o2}
         for name, (u, v) in (coupler_points or {}).items():
             points[name] = coupler_point(a, coupler, u, v)
         mu = ops.arccos(ops.cos(coupler.value - rocker.value))

@@ -86,13 +86,14 @@ class SliderCrank(Mechanism):
 
         Returns
         -------
-        Motion with points ``"A"``, ``"B"`` (and coupler points), links ``"crank"`` and ``"rod"``,
-        slider ``"B"`` (``motion.slider``), pressure and transmission angles.
+        Motion with points ``"O"`` (crank pivot), ``"A"``, ``"B"`` (and coupler points), links
+        ``"crank"`` and ``"rod"``, slider ``"B"`` (``motion.slider``), pressure and transmission
+        angles.
         """
         omega, eps = speed_pair(speed, epsilon)
         a, b, s, rod = self.jets(phi)
         crank_jet = Jet(phi + 0.0 * self.crank, 1.0 + 0.0 * a.x, 0.0 * a.x)
-        points = {"A": a, "B": b}
+        points = {"O": PointJet.fixed(0.0 * a.x, 0.0 * a.x), "A": a, "B": b}
         for name, (u, v) in (coupler_points or {}).items():
             points[name] = coupler_point(a, rod, u, v)
         pressure = ops.arcsin(ops.fabs(self.offset - a.y) / self.rod)
