@@ -1,0 +1,286 @@
+"""Dwell metrics of a coupler curve: Chebyshev (minimax) straight-line fits and dwell windows.
+
+Construction
+------------
+*Minimax line fit.* For points ``p_i`` and a unit normal ``n(theta)``, every line with that normal
+has the largest perpendicular deviation ``>= (max_i p_i.n - min_i p_i.n) / 2``, with equality for
+the mid line. So the Chebyshev fit minimizes the *width* ``w(theta) = max - min`` of the
+projections over the direction only. The minimum width of a point set is attained with one edge of
+its convex hull flush with the band (rotating-calipers theorem), hence
+
+    2E = min over hull edges of (max distance of the hull vertices from that edge's line),
+
+which is exact and costs O(h^2) for a hull of h vertices. ``E`` is the half-width of the band
+(the deviation of the fitted line), ``2E`` its width (the residual motion of link 5 during the
+dwell).
+
+*Dwell window.* Given a tolerance E, the dwell is the longest cyclic run of consecutive crank-angle
+samples whose minimax fit has half-width <= E. Feasibility is monotone under inclusion (a subset
+never needs a wider band), so a two-pointer sweep over the doubled cycle finds the longest run with
+O(N) exact fits. The dwell duration is ``alpha_Sigma = (L - 1) * dphi`` for a run of L samples on a
+uniform grid of step dphi; it starts at ``phi_L`` (C at K_L) and the fitted line has slope ``xi``.
+
+*Stroke.* With the slot of link 5 laid along the fitted line (angle xi) link 5 moves by
+``s5 = C . (-sin xi, cos xi)``; its relative stroke ``S_max`` is (max s5 - min s5) / rod.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial import ConvexHull, QhullError
+
+from .base import Measure
+
+__all__ = [
+    "LineFit",
+    "minimax_line_fit",
+    "DwellWindow",
+    "dwell_window",
+    "window_deviation",
+    "relative_stroke",
+    "DwellDuration",
+    "DwellDeviation",
+    "DwellStroke",
+]
+
+
+@dataclass(frozen=True)
+class LineFit:
+    """Chebyshev line fit: the line ``x*(-sin xi) + y*cos xi = c`` with half-width ``E``.
+
+    Attributes
+    ----------
+    deviation : half-width E of the band (largest perpendicular distance to the line), m.
+    width : 2E, m.
+    xi : direction of the line (rad, in [0, pi)).
+    c : signed distance of the line from the origin along ``(-sin xi, cos xi)``, m.
+    """
+
+    deviation: float
+    xi: float
+    c: float
+
+    @property
+    def width(self) -> float:
+        return 2.0 * self.deviation
+
+
+def _fit_direction(points, xi):
+    xi = float(np.mod(xi, np.pi))
+    nx, ny = -np.sin(xi), np.cos(xi)
+    proj = points[:, 0] * nx + points[:, 1] * ny
+    hi, lo = proj.max(), proj.min()
+    return LineFit(0.5 * (hi - lo), xi, 0.5 * (hi + lo))
+
+
+def minimax_line_fit(points) -> LineFit:
+    """Exact Chebyshev (minimax perpendicular deviation) straight-line fit of 2-D points.
+
+    Parameters
+    ----------
+    points : array (N, 2), N >= 2, finite.
+
+    Returns
+    -------
+    LineFit with the half-width E, the direction xi and the offset c of the best line.
+    """
+    p = np.asarray(points, dtype=float)
+    if p.ndim != 2 or p.shape[1] != 2 or p.shape[0] < 2:
+        raise ValueError(f"points must be an (N, 2) array with N >= 2, got shape {p.shape}")
+    if not np.all(np.isfinite(p)):
+        raise ValueError("points must be finite")
+    try:
+        hull = p[ConvexHull(p).vertices]
+    except QhullError:
+        # (nearly) collinear or too few points: the band is along the principal direction
+        q = p - p.mean(axis=0)
+        _, _, vt = np.linalg.svd(q, full_matrices=False)
+        return _fit_direction(p, np.arctan2(vt[0, 1], vt[0, 0]))
+    edges = np.roll(hull, -1, axis=0) - hull
+    lengths = np.hypot(edges[:, 0], edges[:, 1])
+    keep = lengths > 0
+    edges, base, lengths = edges[keep], hull[keep], lengths[keep]
+    # distances of all hull vertices from each edge line (hull is convex: all on one side)
+    rel_x = hull[None, :, 0] - base[:, None, 0]
+    rel_y = hull[None, :, 1] - base[:, None, 1]
+    dist = np.abs(edges[:, None, 0] * rel_y - edges[:, None, 1] * rel_x) / lengths[:, None]
+    widths = dist.max(axis=1)
+    best = int(np.argmin(widths))
+    return _fit_direction(p, np.arctan2(edges[best, 1], edges[best, 0]))
+
+
+def window_deviation(x, y, start, stop) -> LineFit:
+    """Minimax fit of the samples ``start .. stop-1`` (indices taken cyclically) of a curve."""
+    n = len(x)
+    idx = np.arange(start, stop) % n
+    return minimax_line_fit(np.column_stack([np.asarray(x)[idx], np.asarray(y)[idx]]))
+
+
+@dataclass(frozen=True)
+class DwellWindow:
+    """Longest crank-angle window whose coupler-curve section fits a line within ``tolerance``.
+
+    Attributes
+    ----------
+    tolerance : E, the admitted half-width (m).
+    dwell : alpha_Sigma, crank angle of the window (rad).
+    phi_L : crank angle at the start of the window (rad, in [0, 2 pi)).
+    start, count : first sample index and number of samples in the window.
+    fit : the minimax fit of the window (deviation <= tolerance).
+    """
+
+    tolerance: float
+    dwell: float
+    phi_L: float
+    start: int
+    count: int
+    fit: LineFit
+
+    @property
+    def xi(self) -> float:
+        return self.fit.xi
+
+    @property
+    def deviation(self) -> float:
+        return self.fit.deviation
+
+
+def _check_grid(phi):
+    phi = np.asarray(phi, dtype=float)
+    n = phi.size
+    if phi.ndim != 1 or n < 4:
+        raise ValueError(
+            f"phi must be a 1-D grid of at least 4 crank angles, got shape {phi.shape}"
+        )
+    step = 2.0 * np.pi / n
+    if not np.allclose(np.diff(phi), step, rtol=1e-9, atol=1e-12):
+        raise ValueError(
+            f"phi must cover one cycle in {n} equal steps of {step:.6g} rad (e.g. ms.cycle({n}))"
+        )
+    return phi, step
+
+
+def dwell_window(phi, x, y, tolerance) -> DwellWindow:
+    """Longest cyclic window of a closed curve sampled at ``phi`` with minimax half-width <= E.
+
+    Parameters
+    ----------
+    phi : crank angles (rad), one full cycle in equal steps (``ms.cycle(N)``).
+    x, y : coordinates (m) of the curve at ``phi``.
+    tolerance : E (m), the admitted half-width of the band (> 0).
+    """
+    phi, step = _check_grid(phi)
+    if not np.isfinite(tolerance) or tolerance <= 0:
+        raise ValueError(f"tolerance (half-width E) must be positive, got {tolerance}")
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    n = phi.size
+    if x.shape != (n,) or y.shape != (n,):
+        raise ValueError(f"x and y must have the shape of phi {(n,)}, got {x.shape}, {y.shape}")
+    pts = np.column_stack([x, y])
+    pts2 = np.concatenate([pts, pts])
+
+    def ok(i, j):  # samples i .. j-1
+        if j - i <= 2:
+            return True
+        seg = pts2[i:j]
+        # quick accept: band along the chord direction is an upper bound of the minimax width
+        d = seg[-1] - seg[0]
+        if np.hypot(*d) > 0:
+            fx = _fit_direction(seg, np.arctan2(d[1], d[0]))
+            if fx.deviation <= tolerance:
+                return True
+        return minimax_line_fit(seg).deviation <= tolerance
+
+    best_i, best_len = 0, 1
+    j = 1
+    for i in range(n):
+        j = max(j, i + 1)
+        while j < i + n and ok(i, j + 1):
+            j += 1
+        if j - i > best_len:
+            best_i, best_len = i, j - i
+        if best_len == n:
+            break
+    fit = window_deviation(x, y, best_i, best_i + best_len)
+    dwell = 2.0 * np.pi if best_len == n else (best_len - 1) * step
+    return DwellWindow(
+        float(tolerance), float(dwell), float(np.mod(phi[best_i], 2 * np.pi)), best_i, best_len, fit
+    )
+
+
+def relative_stroke(x, y, xi, rod=1.0):
+    """Relative stroke S_max of link 5 with its slot at angle ``xi``: range of C . n over rod."""
+    s5 = -np.asarray(x) * np.sin(xi) + np.asarray(y) * np.cos(xi)
+    return (s5.max(axis=-1) - s5.min(axis=-1)) / rod
+
+
+def _curve(motion):
+    c = motion.points["C"]
+    return np.asarray(c.x, dtype=float), np.asarray(c.y, dtype=float)
+
+
+def _per_design(motion, fn):
+    x, y = _curve(motion)
+    phi = np.asarray(motion.phi, dtype=float).reshape(-1)
+    x, y = np.broadcast_arrays(x, y)
+    if x.ndim == 1:
+        return fn(phi, x, y)
+    flat_x = x.reshape(-1, x.shape[-1])
+    flat_y = y.reshape(-1, y.shape[-1])
+    out = np.array([fn(phi, a, b) for a, b in zip(flat_x, flat_y)])
+    return out.reshape(x.shape[:-1])
+
+
+class DwellDuration(Measure):
+    """alpha_Sigma (rad): longest crank-angle window whose coupler section of C fits a straight
+    line within half-width ``tolerance`` (relative to the rod). Not smooth: use with "de" or a
+    grid search."""
+
+    unit = "rad"
+
+    def __init__(self, tolerance: float, name: str = "dwell"):
+        self.tolerance, self.name = float(tolerance), name
+
+    def from_motion(self, mechanism, motion):
+        tol = self.tolerance * float(mechanism.rod)
+        return _per_design(motion, lambda p, x, y: dwell_window(p, x, y, tol).dwell)
+
+
+class DwellStroke(Measure):
+    """S_max: relative stroke of link 5 with its slot along the line fitted to the dwell window
+    found for ``tolerance``."""
+
+    def __init__(self, tolerance: float, name: str = "S_max"):
+        self.tolerance, self.name = float(tolerance), name
+
+    def from_motion(self, mechanism, motion):
+        tol = self.tolerance * float(mechanism.rod)
+        rod = float(mechanism.rod)
+
+        def fn(p, x, y):
+            return relative_stroke(x, y, dwell_window(p, x, y, tol).xi, rod)
+
+        return _per_design(motion, fn)
+
+
+class DwellDeviation(Measure):
+    """E (relative to the rod): minimax half-width of the coupler section of C over the crank
+    window [phi_start, phi_start + span] (rad). 2E is the band width."""
+
+    def __init__(self, phi_start: float, span: float, name: str = "E"):
+        self.phi_start, self.span, self.name = float(phi_start), float(span), name
+
+    def from_motion(self, mechanism, motion):
+        rod = float(mechanism.rod)
+
+        def fn(p, x, y):
+            n = p.size
+            step = 2 * np.pi / n
+            i0 = int(np.ceil(np.mod(self.phi_start - p[0], 2 * np.pi) / step - 1e-9))
+            count = int(np.floor(self.span / step + 1e-9)) + 1
+            return window_deviation(x, y, i0, i0 + count).deviation / rod
+
+        return _per_design(motion, fn)
