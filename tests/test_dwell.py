@@ -12,7 +12,9 @@ from mechsynth.objectives.dwell import (
     DwellDeviation,
     DwellDuration,
     DwellStroke,
+    _hull_width,
     dwell_window,
+    dwell_windows,
     minimax_line_fit,
     relative_stroke,
 )
@@ -44,6 +46,8 @@ def test_minimax_fit_matches_brute_force(seed, n):
     diam = np.max(np.hypot(*(p[:, None, :] - p[None, :, :]).transpose(2, 0, 1)))
     assert brute - fit.deviation <= diam * (np.pi / 20000) / 4 + 1e-12
     assert lp == pytest.approx(brute, rel=1e-5, abs=1e-7)
+    # the compiled kernel used by the dwell sweep agrees with the reference fit
+    assert _hull_width(p[:, 0].copy(), p[:, 1].copy()) == pytest.approx(2 * fit.deviation, 1e-12)
     # the line really has that deviation
     d = -np.sin(fit.xi) * p[:, 0] + np.cos(fit.xi) * p[:, 1] - fit.c
     assert np.max(np.abs(d)) == pytest.approx(fit.deviation, rel=1e-12, abs=1e-14)
@@ -140,3 +144,13 @@ def test_hoeken_straight_line_linkage():
     x, y = np.asarray(p.x), np.asarray(p.y)
     assert dwell_window(PHI, x, y, 0.005).dwell >= np.pi
     assert dwell_window(PHI, x, y, 0.0025).dwell < np.pi
+
+
+def test_batch_matches_single():
+    r = np.array([0.2, 0.3, 0.35])[:, None]
+    x, y = DwellSliderCrank(r=r, k=1.2, gamma=np.deg2rad(25)).coupler_curve(PHI)
+    b = dwell_windows(PHI, x, y, 0.002)
+    for i in range(3):
+        w = dwell_window(PHI, x[i], y[i], 0.002)
+        assert b["dwell"][i] == w.dwell and b["phi_L"][i] == w.phi_L
+        assert b["deviation"][i] == pytest.approx(w.deviation) and b["deviation"][i] <= 0.002

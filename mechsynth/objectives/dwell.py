@@ -28,6 +28,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
@@ -65,6 +66,101 @@ class LineFit:
     @property
     def width(self) -> float:
         return 2.0 * self.deviation
+
+
+@numba.njit(cache=True)
+def _hull_width(px, py):
+    """Minimum width (2E) of a point set: monotone-chain hull, then the widest vertex per edge."""
+    n = px.size
+    if n <= 2:
+        return 0.0
+    o1 = np.argsort(py, kind="mergesort")
+    o2 = np.argsort(px[o1], kind="mergesort")
+    order = o1[o2]
+    hx = np.empty(2 * n)
+    hy = np.empty(2 * n)
+    lower = 0
+    m = 0
+    for t in range(2 * n - 1):  # lower hull (t < n), then upper hull back to the start
+        i = order[t] if t < n else order[2 * n - 2 - t]
+        lim = 2 if t < n else lower + 1
+        while (
+            m >= lim
+            and (
+                (hx[m - 1] - hx[m - 2]) * (py[i] - hy[m - 2])
+                - (hy[m - 1] - hy[m - 2]) * (px[i] - hx[m - 2])
+            )
+            <= 0.0
+        ):
+            m -= 1
+        hx[m] = px[i]
+        hy[m] = py[i]
+        m += 1
+        if t == n - 1:
+            lower = m
+    m -= 1  # last point repeats the first
+    if m < 3:
+        return 0.0
+    best = np.inf
+    for a in range(m):
+        b = a + 1 if a + 1 < m else 0
+        ex, ey = hx[b] - hx[a], hy[b] - hy[a]
+        ln = np.sqrt(ex * ex + ey * ey)
+        if ln == 0.0:
+            continue
+        far = 0.0
+        for c in range(m):
+            d = abs(ex * (hy[c] - hy[a]) - ey * (hx[c] - hx[a])) / ln
+            if d > far:
+                far = d
+        if far < best:
+            best = far
+    return best if best < np.inf else 0.0
+
+
+@numba.njit(cache=True)
+def _window_ok(px, py, i, j, width):
+    """True if samples i .. j-1 of the doubled curve fit a band of ``width``."""
+    if j - i <= 2:
+        return True
+    ex, ey = px[j - 1] - px[i], py[j - 1] - py[i]
+    ln = np.sqrt(ex * ex + ey * ey)
+    if ln > 0.0:  # quick accept: the band along the chord bounds the minimax width from above
+        lo, hi = np.inf, -np.inf
+        for t in range(i, j):
+            d = (ex * (py[t] - py[i]) - ey * (px[t] - px[i])) / ln
+            lo = min(lo, d)
+            hi = max(hi, d)
+        if hi - lo <= width:
+            return True
+    return _hull_width(px[i:j], py[i:j]) <= width
+
+
+@numba.njit(cache=True)
+def _longest_windows(x, y, width):
+    """Two-pointer sweep per design (rows of x, y): (start, count) of the longest cyclic run."""
+    nd, n = x.shape
+    start = np.zeros(nd, dtype=np.int64)
+    count = np.ones(nd, dtype=np.int64)
+    px = np.empty(2 * n)
+    py = np.empty(2 * n)
+    for d in range(nd):
+        px[:n] = x[d]
+        px[n:] = x[d]
+        py[:n] = y[d]
+        py[n:] = y[d]
+        j = 1
+        for i in range(n):
+            if j < i + 1:
+                j = i + 1
+            while j < i + n and _window_ok(px, py, i, j + 1, width):
+                j += 1
+            if j - i > count[d]:
+                start[d] = i
+                count[d] = j - i
+            if count[d] == n:
+                break
+    return start, count
 
 
 def _fit_direction(points, xi):
@@ -179,36 +275,47 @@ def dwell_window(phi, x, y, tolerance) -> DwellWindow:
     n = phi.size
     if x.shape != (n,) or y.shape != (n,):
         raise ValueError(f"x and y must have the shape of phi {(n,)}, got {x.shape}, {y.shape}")
-    pts = np.column_stack([x, y])
-    pts2 = np.concatenate([pts, pts])
-
-    def ok(i, j):  # samples i .. j-1
-        if j - i <= 2:
-            return True
-        seg = pts2[i:j]
-        # quick accept: band along the chord direction is an upper bound of the minimax width
-        d = seg[-1] - seg[0]
-        if np.hypot(*d) > 0:
-            fx = _fit_direction(seg, np.arctan2(d[1], d[0]))
-            if fx.deviation <= tolerance:
-                return True
-        return minimax_line_fit(seg).deviation <= tolerance
-
-    best_i, best_len = 0, 1
-    j = 1
-    for i in range(n):
-        j = max(j, i + 1)
-        while j < i + n and ok(i, j + 1):
-            j += 1
-        if j - i > best_len:
-            best_i, best_len = i, j - i
-        if best_len == n:
-            break
+    st, ct = _longest_windows(x[None, :], y[None, :], 2.0 * float(tolerance))
+    best_i, best_len = int(st[0]), int(ct[0])
     fit = window_deviation(x, y, best_i, best_i + best_len)
     dwell = 2.0 * np.pi if best_len == n else (best_len - 1) * step
     return DwellWindow(
         float(tolerance), float(dwell), float(np.mod(phi[best_i], 2 * np.pi)), best_i, best_len, fit
     )
+
+
+def dwell_windows(phi, x, y, tolerance):
+    """Batch version of :func:`dwell_window` for curves in the rows of ``x``, ``y`` (..., N).
+
+    Returns a dict of arrays over the leading axes: ``dwell`` (rad), ``phi_L`` (rad), ``deviation``
+    (E, m), ``xi`` (rad), ``start``, ``count``. The windows come from the compiled two-pointer
+    sweep; each window's line is then fitted exactly.
+    """
+    phi, step = _check_grid(phi)
+    if not np.isfinite(tolerance) or tolerance <= 0:
+        raise ValueError(f"tolerance (half-width E) must be positive, got {tolerance}")
+    x, y = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+    n = phi.size
+    if x.shape[-1] != n:
+        raise ValueError(f"the last axis of x, y must match phi ({n}), got {x.shape}")
+    lead = x.shape[:-1]
+    fx = np.ascontiguousarray(x.reshape(-1, n))
+    fy = np.ascontiguousarray(y.reshape(-1, n))
+    st, ct = _longest_windows(fx, fy, 2.0 * float(tolerance))
+    dev = np.empty(st.size)
+    xi = np.empty(st.size)
+    for d in range(st.size):
+        f = window_deviation(fx[d], fy[d], st[d], st[d] + ct[d])
+        dev[d], xi[d] = f.deviation, f.xi
+    dwell = np.where(ct == n, 2.0 * np.pi, (ct - 1) * step)
+    return {
+        "dwell": dwell.reshape(lead),
+        "phi_L": np.mod(phi[st], 2.0 * np.pi).reshape(lead),
+        "deviation": dev.reshape(lead),
+        "xi": xi.reshape(lead),
+        "start": st.reshape(lead),
+        "count": ct.reshape(lead),
+    }
 
 
 def relative_stroke(x, y, xi, rod=1.0):
