@@ -60,7 +60,13 @@ def _study_run(args) -> int:
 #: chart name -> (module, function, description). The function takes ``(out, options)`` -- ``out``
 #: a directory or None, ``options`` a dict of ``--set key=value`` strings -- and returns a
 #: :class:`~mechsynth.studies.StudyResult`.
-CHARTS: dict[str, tuple[str, str, str]] = {}
+CHARTS: dict[str, tuple[str, str, str]] = {
+    "dwell": (
+        "mechsynth.synthesis.dwell_charts",
+        "chart_dwell",
+        "Paper 003b: dwell duration, band width 2E and stroke S_max of the dwell linkage",
+    ),
+}
 
 
 def _add_chart(sub) -> None:

@@ -41,6 +41,8 @@ __all__ = [
     "dwell_window",
     "window_deviation",
     "relative_stroke",
+    "dwell_windows",
+    "best_window_width",
     "DwellDuration",
     "DwellDeviation",
     "DwellStroke",
@@ -161,6 +163,29 @@ def _longest_windows(x, y, width):
             if count[d] == n:
                 break
     return start, count
+
+
+@numba.njit(cache=True)
+def _best_fixed_windows(x, y, count):
+    """Per design: the smallest minimax width (2E) over all cyclic windows of ``count`` samples,
+    and the start index where it is attained."""
+    nd, n = x.shape
+    best = np.empty(nd)
+    where = np.zeros(nd, dtype=np.int64)
+    px = np.empty(n + count)
+    py = np.empty(n + count)
+    for d in range(nd):
+        px[:n] = x[d]
+        py[:n] = y[d]
+        px[n:] = x[d, :count]
+        py[n:] = y[d, :count]
+        best[d] = np.inf
+        for i in range(n):
+            w = _hull_width(px[i : i + count], py[i : i + count])
+            if w < best[d]:
+                best[d] = w
+                where[d] = i
+    return best, where
 
 
 def _fit_direction(points, xi):
@@ -316,6 +341,22 @@ def dwell_windows(phi, x, y, tolerance):
         "start": st.reshape(lead),
         "count": ct.reshape(lead),
     }
+
+
+def best_window_width(phi, x, y, span):
+    """Smallest minimax band width 2E (m) over all crank windows of length ``span`` (rad), for
+    curves in the rows of ``x``, ``y``; returns ``(width, phi_start)`` arrays over designs."""
+    phi, step = _check_grid(phi)
+    count = int(np.floor(span / step + 1e-9)) + 1
+    if not 2 <= count <= phi.size:
+        raise ValueError(f"span ({span} rad) must cover 1 .. {phi.size - 1} grid steps")
+    x, y = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+    n = phi.size
+    lead = x.shape[:-1]
+    w, st = _best_fixed_windows(
+        np.ascontiguousarray(x.reshape(-1, n)), np.ascontiguousarray(y.reshape(-1, n)), count
+    )
+    return w.reshape(lead), np.mod(phi[st], 2 * np.pi).reshape(lead)
 
 
 def relative_stroke(x, y, xi, rod=1.0):
