@@ -19,6 +19,10 @@ STUDIES: dict[str, tuple[str, str]] = {
         "mechsynth.studies.extreme_velocity",
         "Paper 004: extreme slider velocities of the slider-crank (Table 1, errata in lambda_s)",
     ),
+    "dwell": (
+        "mechsynth.studies.dwell",
+        "Paper 003b: longest-dwell coupler-curve dwell linkage on a central slider-crank",
+    ),
 }
 
 
