@@ -129,12 +129,24 @@ def _window_ok(px, py, i, j, width):
     ln = np.sqrt(ex * ex + ey * ey)
     if ln > 0.0:  # quick accept: the band along the chord bounds the minimax width from above
         lo, hi = np.inf, -np.inf
+        tlo, thi = i, i
         for t in range(i, j):
             d = (ex * (py[t] - py[i]) - ey * (px[t] - px[i])) / ln
-            lo = min(lo, d)
-            hi = max(hi, d)
+            if d < lo:
+                lo, tlo = d, t
+            if d > hi:
+                hi, thi = d, t
         if hi - lo <= width:
             return True
+        # quick reject: a sub-triangle (chord ends + farthest point) needs a band of width
+        # 2 area / longest side, a lower bound of the minimax width of the whole set
+        t = thi if hi > -lo else tlo
+        far = max(hi, -lo)
+        a2 = far * ln  # twice the triangle area
+        s1 = np.hypot(px[t] - px[i], py[t] - py[i])
+        s2 = np.hypot(px[j - 1] - px[t], py[j - 1] - py[t])
+        if a2 / max(ln, s1, s2) > width:
+            return False
     return _hull_width(px[i:j], py[i:j]) <= width
 
 
