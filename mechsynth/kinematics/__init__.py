@@ -2,6 +2,7 @@
 
 from . import ops
 from .blocks import coupler_point, crank, dyad_rpr, dyad_rrp, dyad_rrr, link_angle
+from .dwell import DwellSliderCrank
 from .four_bar import FourBar, Grashof, grashof
 from .mechanism import Mechanism
 from .slider_crank import SliderCrank
@@ -17,6 +18,7 @@ __all__ = [
     "link_angle",
     "Mechanism",
     "SliderCrank",
+    "DwellSliderCrank",
     "FourBar",
     "Grashof",
     "grashof",
