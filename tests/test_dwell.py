@@ -155,3 +155,16 @@ def test_batch_matches_single():
         w = dwell_window(PHI, x[i], y[i], 0.002)
         assert b["dwell"][i] == w.dwell and b["phi_L"][i] == w.phi_L
         assert b["deviation"][i] == pytest.approx(w.deviation) and b["deviation"][i] <= 0.002
+
+
+def test_casadi_model_matches_numpy():
+    import casadi as ca
+
+    p = ca.SX.sym("p", 3)
+    ph = ca.SX.sym("phi")
+    j = DwellSliderCrank(p[0], p[1], p[2], xi=0.2).output_jet(ph)
+    f = ca.Function("s5", [p, ph], [j.value, j.d1, j.d2])
+    num = DwellSliderCrank(0.3, 1.2, 0.35, xi=0.2).output_jet(PHI[::40])
+    for i, phi in enumerate(PHI[::40]):
+        got = [float(v) for v in f([0.3, 1.2, 0.35], phi)]
+        np.testing.assert_allclose(got, [num.value[i], num.d1[i], num.d2[i]], atol=1e-12)
