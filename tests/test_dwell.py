@@ -17,6 +17,7 @@ from mechsynth.objectives.dwell import (
     dwell_windows,
     minimax_line_fit,
     relative_stroke,
+    window_deviation,
 )
 
 PHI = np.arange(720) * 2 * np.pi / 720
@@ -129,8 +130,10 @@ def test_measures_batch():
     single = DwellDuration(0.002).evaluate(DwellSliderCrank(0.25, 1.2, np.deg2rad(20)), PHI)
     assert dur.shape == (2,) and dur[1] == pytest.approx(single)
     assert DwellStroke(0.002).from_motion(m, mo).shape == (2,)
-    e = DwellDeviation(0.0, np.pi / 4).evaluate(DwellSliderCrank(0.25, 1.2, 0.3), PHI)
-    assert 0 < e < 1
+    m1 = DwellSliderCrank(0.25, 1.2, 0.3)
+    e = DwellDeviation(PHI[30], np.pi / 4).evaluate(m1, PHI)
+    x, y = m1.coupler_curve(PHI)
+    assert e == pytest.approx(window_deviation(x, y, 30, 30 + 91).deviation, rel=1e-12)
 
 
 def test_hoeken_straight_line_linkage():
