@@ -1,18 +1,19 @@
 """Forces: mass properties, loads, kinetostatics, reduced dynamics and motors."""
 
-from .inertia import LinkInertia, com_track, kinetic_energy, reduced_inertia
-from .motor import InductionMotor, LinearDrive
-from .reduced import ReducedModel, gravity_moment, point_force_moment, reduced_model
 from .equation_of_motion import (
     CycleResult,
     energy_method_flywheel,
     energy_stepping,
     quartic_coefficients,
+    run_up,
     size_flywheel,
     steady_cycle,
 )
+from .inertia import LinkInertia, com_track, kinetic_energy, reduced_inertia
+from .motor import InductionMotor, LinearDrive
+from .reduced import ReducedModel, gravity_moment, point_force_moment, reduced_model
 
 __all__ = ["LinkInertia", "com_track", "kinetic_energy", "reduced_inertia"]
 __all__ += ["InductionMotor", "LinearDrive", "ReducedModel", "gravity_moment"]
 __all__ += ["point_force_moment", "reduced_model", "CycleResult", "energy_method_flywheel"]
-__all__ += ["energy_stepping", "quartic_coefficients", "size_flywheel", "steady_cycle"]
+__all__ += ["energy_stepping", "quartic_coefficients", "size_flywheel", "steady_cycle", "run_up"]

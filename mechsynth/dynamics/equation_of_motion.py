@@ -24,6 +24,7 @@ from .motor import InductionMotor
 __all__ = [
     "CycleResult",
     "steady_cycle",
+    "run_up",
     "energy_stepping",
     "quartic_coefficients",
     "fluctuation",
@@ -108,6 +109,28 @@ def _one_cycle(model, drive, w0, n, rtol):
     )
     if not sol.success or sol.y.shape[1] != phi.size or np.any(sol.y[0] <= 0):
         raise ValueError(f"integration failed from omega0={w0}: {sol.message} (machine stalls?)")
+    return phi, sol.y[0]
+
+
+def run_up(model, drive, omega0, turns=1.0, n=360, rtol=1e-10):
+    """Integrate the equation of motion from ``omega0`` at phi = 0 over ``turns`` crank turns.
+
+    Returns ``(phi, omega)`` on ``n`` steps per turn (transients, start-up, checks).
+    """
+    w0 = _check_omega0(omega0)
+    end = 2 * np.pi * float(turns)
+    phi = np.linspace(0.0, end, int(round(n * turns)) + 1)
+    sol = solve_ivp(
+        _rhs(model, drive),
+        (0.0, end),
+        [w0],
+        t_eval=phi,
+        rtol=rtol,
+        atol=1e-12 * w0,
+        method="DOP853",
+    )
+    if not sol.success or sol.y.shape[1] != phi.size:
+        raise ValueError(f"integration failed from omega0={w0}: {sol.message}")
     return phi, sol.y[0]
 
 
@@ -225,12 +248,19 @@ def energy_method_flywheel(model, omega_mean, delta, n=3600):
     return de / (delta * omega_mean**2), de
 
 
-def size_flywheel(model, drive, omega0, delta, n=180, j_max=None):
+def size_flywheel(model, drive, omega0, delta, n=180, j_max=None, rtol=1e-6):
     """Flywheel inertia at the crank (kg m^2) giving speed fluctuation ``delta`` (root find on
-    the simulated delta). Returns ``(J_fly, CycleResult)``; ``J_fly = 0`` when already met."""
+    the simulated delta, relative tolerance ``rtol``). Returns ``(J_fly, CycleResult)``;
+    ``J_fly = 0`` when the machine already meets ``delta``."""
     if not np.isfinite(delta) or delta <= 0:
         raise ValueError(f"delta must be positive, got {delta}")
-    f = lambda jf: steady_cycle(model.with_flywheel(jf), drive, omega0, n=n).delta - delta  # noqa
+    start = [_check_omega0(omega0)]
+
+    def f(jf):
+        cyc = steady_cycle(model.with_flywheel(jf), drive, start[0], n=n, tol=1e-7, rtol=1e-8)
+        start[0] = cyc.omega[0]  # warm start the next shooting
+        return cyc.delta - delta
+
     if f(0.0) <= 0:
         return 0.0, steady_cycle(model, drive, omega0, n=n)
     hi = j_max or max(float(np.max(model.j_grid)), 1e-6)
@@ -238,5 +268,5 @@ def size_flywheel(model, drive, omega0, delta, n=180, j_max=None):
         hi *= 4.0
         if hi > 1e9:
             raise ValueError("no flywheel up to 1e9 kg m^2 reaches the requested delta")
-    jf = brentq(f, 0.0, hi, xtol=1e-10 * hi, rtol=1e-8)
-    return jf, steady_cycle(model.with_flywheel(jf), drive, omega0, n=n)
+    jf = brentq(f, 0.0, hi, rtol=rtol)
+    return jf, steady_cycle(model.with_flywheel(jf), drive, start[0], n=n)

@@ -77,11 +77,11 @@ class ReducedModel:
             raise ValueError("phi_grid must be 1-D, increasing, with at least 4 angles")
         if abs(phi[-1] - phi[0] - 2 * np.pi) > 1e-9:
             raise ValueError("phi_grid must span exactly one turn (closed: last = first + 2 pi)")
+        if not np.isfinite(self.flywheel) or self.flywheel < 0:
+            raise ValueError(f"flywheel must be a non-negative inertia, got {self.flywheel}")
         j = np.asarray(self.j_grid, dtype=float)
         if np.any(j + self.flywheel <= 0):
             raise ValueError(f"reduced inertia must be positive, min {j.min() + self.flywheel}")
-        if not np.isfinite(self.flywheel) or self.flywheel < 0:
-            raise ValueError(f"flywheel must be a non-negative inertia, got {self.flywheel}")
         sj = CubicHermiteSpline(phi, j, np.asarray(self.dj_grid, dtype=float))
         m = np.asarray(self.m_grid, dtype=float)
         if self.dm_grid is None:
