@@ -108,3 +108,15 @@ def test_result_plot_and_bad_speed():
         steady_cycle(machine(), MOTOR, float("nan"))
     with pytest.raises(ValueError, match="omega0"):
         energy_stepping(machine(), MOTOR, -5.0)
+
+
+def test_nail_header_drive_solvers_agree_and_upsetting_force():
+    from mechsynth.dynamics.nail_header_drive import nail_header_speed_fluctuation, upsetting_force
+
+    # paper 003 / seeds README: the upsetting force at full contact is about 52.3 kN
+    assert float(upsetting_force(0.0)) == pytest.approx(52.3e3, rel=2e-3)
+    assert float(upsetting_force(0.0031)) == 0.0
+    r = nail_header_speed_fluctuation(15.0, n=360)
+    assert r["ivp"].converged and r["stepping"].converged
+    assert r["delta_stepping"] == pytest.approx(r["delta"], rel=0.01)
+    assert 590 < r["mean_rpm"] < 640
