@@ -178,6 +178,7 @@ def chart_dwell(out, options):
         "k": float(chart.k[i[1]]),
         "r": float(chart.r[i[2]]),
         "dwell_deg": float(chart.dwell_deg[i]),
+        "S_max": float(chart.S_max[i]),
     }
     summary = (
         f"dwell chart: {n} x {n} grid, gamma = {gammas} deg, E <= {tol:g} l, "
