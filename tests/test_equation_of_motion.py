@@ -120,3 +120,12 @@ def test_nail_header_drive_solvers_agree_and_upsetting_force():
     assert r["ivp"].converged and r["stepping"].converged
     assert r["delta_stepping"] == pytest.approx(r["delta"], rel=0.01)
     assert 590 < r["mean_rpm"] < 640
+
+
+def test_steady_cycle_energy_balance():
+    # periodic cycle: the motor's work over a turn equals the work of the resistance
+    model = machine()
+    cyc = steady_cycle(model, MOTOR, 60.0, n=360)
+    work = np.trapezoid(cyc.drive_torque + cyc.load_moment, cyc.phi)
+    assert abs(work) < 1e-4 * np.trapezoid(np.abs(cyc.load_moment), cyc.phi)
+    assert cyc.omega[-1] == pytest.approx(cyc.omega[0], rel=1e-7)
