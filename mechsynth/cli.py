@@ -112,7 +112,8 @@ def _print_result(result, args) -> int:
             print("\nWritten:")
             for f in result.files:
                 print(f"  {f}")
-    return 0
+    # a study that reports an optimizer failure or infeasibility exits non-zero
+    return 0 if result.data.get("success", True) is not False else 1
 
 
 # ------------------------------------------------------------------------------- main

@@ -35,3 +35,15 @@ def test_chart_cli_json(tmp_path, capsys):
     rc = main(["chart", "dwell", "--set", "n=3", "--set", "n_angles=72", "--json"])
     assert rc == 0
     assert json.loads(capsys.readouterr().out)["tolerance"] == 0.002
+
+
+def test_infeasible_stroke_reported_and_exits_nonzero(capsys):
+    import argparse
+
+    from mechsynth.cli import _print_result
+
+    # no design within the bounds reaches a stroke of 5 rod lengths
+    res = run(None, stroke=5.0, n=3, dense=3)
+    assert res.data["success"] is False
+    assert _print_result(res, argparse.Namespace(json=True)) == 1
+    capsys.readouterr()
