@@ -8,15 +8,19 @@ angles and designs), CasADi exact derivatives for IPOPT, and cvxpy convex subpro
 >>> m = sc.motion(ms.cycle(720), speed=ms.rpm(600))
 """
 
-from . import kinematics
+from . import kinematics, objectives
 from .errors import MechanismError, SolverError
 from .kinematics import FourBar, Motion, SliderCrank
+from .synthesis import Problem, Result
 from .units import cycle, deg, dms, inch, rpm, spm, to_deg, to_inch, to_rpm
 
 __version__ = "0.1.0"
 
 __all__ = [
     "kinematics",
+    "objectives",
+    "Problem",
+    "Result",
     "MechanismError",
     "SolverError",
     "SliderCrank",

@@ -139,6 +139,27 @@ class FourBar(Mechanism):
                 o=a + b + c + d - longest,
             )
 
+    @classmethod
+    def feasibility_constraints(cls, params, margin=1e-3):
+        """Smooth conditions ``g >= 0`` (dimensionless) for a crank that makes full turns (when
+        ``full_turn`` is True, the default), else for assembly: ``coupler + rocker - crank -
+        ground >= margin * sum`` and ``(ground - crank)^2 - (coupler - rocker)^2 >= margin *
+        sum^2``. Written with ``ops``, so ``params`` may hold CasADi symbols."""
+        a, b, c, d = (params[k] for k in ("crank", "coupler", "rocker", "ground"))
+        total = a + b + c + d
+        if not params.get("full_turn", True):
+            return [
+                (f"{k} shorter than the other three links", (total - 2.0 * x) / total - margin)
+                for k, x in (("crank", a), ("coupler", b), ("rocker", c), ("ground", d))
+            ]
+        return [
+            ("crank + ground < coupler + rocker (full turn)", (b + c - a - d) / total - margin),
+            (
+                "|ground - crank| > |coupler - rocker| (full turn)",
+                ((d - a) ** 2 - (b - c) ** 2) / total**2 - margin,
+            ),
+        ]
+
     @property
     def sigma(self) -> int:
         return _BRANCHES[self.branch]

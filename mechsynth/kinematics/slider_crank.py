@@ -66,6 +66,17 @@ class SliderCrank(Mechanism):
                 r=reach,
             )
 
+    @classmethod
+    def feasibility_constraints(cls, params, margin=1e-3):
+        """Smooth conditions ``g >= 0`` (dimensionless) for a design that can make full turns:
+        ``rod - crank -+ offset >= margin * rod``. Written with ``ops``, so ``params`` may hold
+        CasADi symbols (optimizers add these constraints automatically)."""
+        a, b, e = params["crank"], params["rod"], params.get("offset", 0.0)
+        return [
+            ("rod > crank + offset (full turn)", (b - a - e) / b - margin),
+            ("rod > crank - offset (full turn)", (b - a + e) / b - margin),
+        ]
+
     # ---------------------------------------------------------------- kinematics
     def jets(self, phi):
         """Jets of the crank pin A, the slider B, the slider position and the rod angle."""

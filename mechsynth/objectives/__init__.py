@@ -1,5 +1,31 @@
 """Measures that reduce a mechanism's cycle to a number: objectives and constraints."""
 
 from .base import Combination, Constraint, CycleMeasure, Measure, ScalarMeasure, reduce_cycle
+from .kinematic import (
+    KINEMATIC_MEASURES,
+    grashof_margin,
+    max_pressure_angle,
+    min_transmission_angle,
+    peak_acceleration,
+    peak_angular_acceleration,
+    peak_angular_velocity,
+    peak_velocity,
+    stroke,
+    swing_angle,
+    time_ratio,
+)
 
 __all__ = ["Measure", "CycleMeasure", "ScalarMeasure", "Combination", "Constraint", "reduce_cycle"]
+__all__ += [
+    "peak_velocity",
+    "peak_acceleration",
+    "max_pressure_angle",
+    "min_transmission_angle",
+    "stroke",
+    "swing_angle",
+    "time_ratio",
+    "grashof_margin",
+    "peak_angular_velocity",
+    "peak_angular_acceleration",
+    "KINEMATIC_MEASURES",
+]

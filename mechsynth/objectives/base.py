@@ -13,6 +13,16 @@ Two kinds:
 
 Measures combine with ``+``, ``-``, ``*`` / ``/`` by numbers into :class:`Combination`, and compare
 with ``<=``, ``>=``, ``==`` against numbers into :class:`Constraint`.
+
+Smooth epigraphs
+----------------
+A peak such as ``max |v|`` is not differentiable where the sign of ``v`` changes. For gradient
+solvers a measure may therefore say how its per-angle value is the pointwise maximum of smooth
+*branches*: ``|v| = max(v, -v)`` has the branches ``(v, -v)``, a magnitude ``sqrt(vx^2 + vy^2)``
+the single branch ``vx^2 + vy^2`` with ``outer="sqrt"``. The optimizer then writes
+``t >= branch`` for every branch and grid angle, all smooth. ``min`` reductions work the same way
+with the per-angle value the pointwise *minimum* of the branches. Measures that give no branches
+use their per-angle value as the only branch (fine when it is smooth near the peak).
 """
 
 from __future__ import annotations
@@ -60,6 +70,14 @@ class Measure:
 
     name: str = "measure"
     unit: str = ""
+
+    def bind(self, mechanism_class) -> Measure:
+        """The concrete measure for designs of ``mechanism_class``.
+
+        Measures with a closed form for some mechanisms (e.g. the stroke of a slider-crank)
+        return it here; the default is the measure itself. Optimizers call this once per problem.
+        """
+        return self
 
     def from_motion(self, mechanism, motion):
         """Value from a mechanism and its motion over a crank-angle grid."""
@@ -114,28 +132,85 @@ class Measure:
 
 class CycleMeasure(Measure):
     """A per-angle quantity ``per_angle(mechanism, motion)`` reduced over the cycle by ``reduce``
-    (``"max"``, ``"min"``, ``"mean"``, ``"rms"``)."""
+    (``"max"``, ``"min"``, ``"mean"``, ``"rms"``).
+
+    Parameters
+    ----------
+    name, unit : for reports.
+    per_angle : ``(mechanism, motion) -> values`` over the angles (numpy or CasADi).
+    reduce : ``"max"``, ``"min"``, ``"mean"`` or ``"rms"`` over the cycle.
+    branches : optional ``(mechanism, motion) -> tuple of per-angle arrays``, smooth, whose
+        pointwise maximum (``reduce="max"``) or minimum (``"min"``) is ``outer^-1(per_angle)``; see
+        the module notes. Default: the per-angle value itself.
+    outer : None, or ``"sqrt"`` when the branches are squares (``per_angle = sqrt(max branch)``);
+        only with ``reduce="max"``.
+    """
 
     def __init__(
-        self, name: str, per_angle: Callable[[Any, Any], Any], reduce: str = "max", unit: str = ""
+        self,
+        name: str,
+        per_angle: Callable[[Any, Any], Any],
+        reduce: str = "max",
+        unit: str = "",
+        branches: Callable[[Any, Any], tuple] | None = None,
+        outer: str | None = None,
     ):
         if reduce not in ("max", "min", "mean", "rms"):
             raise ValueError(f"reduce must be max, min, mean or rms, got {reduce!r}")
+        if outer not in (None, "sqrt"):
+            raise ValueError(f"outer must be None or 'sqrt', got {outer!r}")
+        if outer is not None and reduce != "max":
+            raise ValueError("outer='sqrt' needs reduce='max'")
         self.name, self.per_angle, self.reduce, self.unit = name, per_angle, reduce, unit
+        self._branches, self.outer = branches, outer
+
+    @property
+    def is_peak(self) -> bool:
+        """True for ``max``/``min`` reductions (semi-infinite: epigraph and certification)."""
+        return self.reduce in ("max", "min")
 
     def samples(self, mechanism, motion):
         """The per-angle values (array over designs x angles, or a CasADi column)."""
         return self.per_angle(mechanism, motion)
+
+    def branches(self, mechanism, motion) -> tuple:
+        """Smooth per-angle branches (see the class notes)."""
+        if self._branches is None:
+            return (self.samples(mechanism, motion),)
+        return tuple(self._branches(mechanism, motion))
 
     def from_motion(self, mechanism, motion):
         return reduce_cycle(self.samples(mechanism, motion), self.reduce)
 
 
 class ScalarMeasure(Measure):
-    """A closed-form property ``fn(mechanism)`` of the design."""
+    """A closed-form property ``fn(mechanism)`` of the design.
 
-    def __init__(self, name: str, fn: Callable[[Any], Any], unit: str = ""):
+    ``branches`` (optional) gives smooth expressions whose maximum is ``fn`` (e.g. a time ratio
+    ``max(r, 1/r)`` has the branches ``(r, 1/r)``), and ``floor`` a value the measure can never go
+    below (1 for a time ratio), so that ``== floor`` is written as ``every branch <= floor``.
+    """
+
+    def __init__(
+        self,
+        name: str,
+        fn: Callable[[Any], Any],
+        unit: str = "",
+        branches: Callable[[Any], tuple] | None = None,
+        floor: float | None = None,
+    ):
         self.name, self.fn, self.unit = name, fn, unit
+        self._branches, self.floor = branches, floor
+
+    @property
+    def has_branches(self) -> bool:
+        return self._branches is not None
+
+    def branches(self, mechanism) -> tuple:
+        """Smooth branches whose maximum is the value (the value itself by default)."""
+        if self._branches is None:
+            return (self.fn(mechanism),)
+        return tuple(self._branches(mechanism))
 
     def from_motion(self, mechanism, motion):
         return self.fn(mechanism)
@@ -148,6 +223,8 @@ class Combination(Measure):
     terms: tuple[tuple[float, Measure], ...] = ()
     constant: float = 0.0
     unit: str = ""
+    #: a display name replacing the generated one (e.g. "stroke(C)" for max x - min x)
+    label: str = ""
 
     @staticmethod
     def of(measure: Measure) -> Combination:
@@ -157,6 +234,8 @@ class Combination(Measure):
 
     @property
     def name(self) -> str:  # type: ignore[override]
+        if self.label:
+            return self.label
         parts = [f"{w:g}*{m.name}" if w != 1.0 else m.name for w, m in self.terms]
         if self.constant:
             parts.append(f"{self.constant:g}")
@@ -178,6 +257,10 @@ class Combination(Measure):
         return Combination(tuple((w * k, m) for w, m in self.terms), self.constant * k, self.unit)
 
     __rmul__ = __mul__
+
+    def bind(self, mechanism_class) -> Combination:
+        terms = tuple((w, m.bind(mechanism_class)) for w, m in self.terms)
+        return Combination(terms, self.constant, self.unit, self.label)
 
     def from_motion(self, mechanism, motion):
         total = self.constant

@@ -1,0 +1,265 @@
+"""Optimization problems over a mechanism's parameters.
+
+>>> import mechsynth as ms
+>>> prob = ms.Problem(ms.SliderCrank,
+...                   variables={"crank": (0.01, 0.2), "rod": (0.05, 1.0), "offset": (-0.1, 0.1)},
+...                   speed=ms.rpm(600))
+>>> _ = prob.minimize(ms.objectives.peak_acceleration("slider"))
+>>> _ = prob.subject_to(ms.objectives.stroke("slider") == 0.10,
+...                     ms.objectives.max_pressure_angle() <= ms.deg(30))
+>>> res = prob.solve(starts=2)                                       # doctest: +SKIP
+
+``minimize``, ``maximize`` and ``subject_to`` change the problem in place and return it (so they
+chain); :meth:`Problem.copy` gives an independent copy.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Iterable, Mapping
+
+import numpy as np
+
+from ..objectives.base import Constraint, Measure
+from ..units import cycle
+
+__all__ = ["Problem"]
+
+
+def _fields(cls):
+    if not dataclasses.is_dataclass(cls):
+        raise TypeError(f"{cls!r} is not a mechanism class (a dataclass of parameters)")
+    return {f.name: f for f in dataclasses.fields(cls)}
+
+
+class Problem:
+    """Choose a mechanism's parameters within bounds to minimize or maximize a measure subject to
+    constraints.
+
+    Parameters
+    ----------
+    mechanism : a mechanism class (e.g. ``ms.SliderCrank``).
+    variables : ``{name: (lower, upper)}`` in SI units (m, rad): the decision variables.
+    fixed : ``{name: value}`` for the other parameters (defaults of the class apply otherwise).
+    speed : crank speed (rad/s, e.g. ``ms.rpm(600)``) at which velocities and accelerations are
+        measured; None measures crank-angle analogs (m/rad, m/rad^2).
+    angles : the base crank-angle grid of the gradient solvers: a count of equal steps over one
+        turn (default 64) or an array of angles (rad). Peaks are certified on the continuous
+        angle regardless (grid refinement).
+    feasibility_margin : relative margin of the mechanism's ``feasibility_constraints`` (full
+        turn of the crank, assembly), which are added automatically.
+    tol : relative constraint tolerance for success: ``violation <= tol * max(1, |bound|)``.
+    """
+
+    def __init__(
+        self,
+        mechanism,
+        variables: Mapping[str, tuple[float, float]],
+        fixed: Mapping | None = None,
+        speed: float | None = None,
+        angles=64,
+        feasibility_margin: float = 1e-3,
+        tol: float = 1e-6,
+    ):
+        fields = _fields(mechanism)
+        self.mechanism = mechanism
+        self.variables: dict[str, tuple[float, float]] = {}
+        if not variables:
+            raise ValueError("variables must name at least one parameter with its (lower, upper)")
+        for name, bounds in variables.items():
+            if name not in fields:
+                raise ValueError(
+                    f"{mechanism.__name__} has no parameter {name!r}; "
+                    f"its parameters: {', '.join(fields)}"
+                )
+            try:
+                lo, hi = (float(b) for b in bounds)
+            except (TypeError, ValueError) as exc:
+                raise ValueError(
+                    f"variable {name!r}: bounds must be (lower, upper), got {bounds!r}"
+                ) from exc
+            if not (np.isfinite(lo) and np.isfinite(hi)) or not lo < hi:
+                raise ValueError(f"variable {name!r}: need finite lower < upper, got ({lo}, {hi})")
+            self.variables[name] = (lo, hi)
+        self.fixed = dict(fixed or {})
+        for name in self.fixed:
+            if name not in fields:
+                raise ValueError(f"{mechanism.__name__} has no parameter {name!r} (in fixed)")
+            if name in self.variables:
+                raise ValueError(f"{name!r} is both a variable and fixed")
+        missing = [
+            n
+            for n, f in fields.items()
+            if n not in self.variables
+            and n not in self.fixed
+            and f.default is dataclasses.MISSING
+            and f.default_factory is dataclasses.MISSING
+        ]
+        if missing:
+            raise ValueError(
+                f"{mechanism.__name__}: give {', '.join(missing)} as variables or fixed"
+            )
+        if speed is not None:
+            speed = float(speed)
+            if not np.isfinite(speed) or speed == 0.0:
+                raise ValueError(
+                    f"speed must be a finite non-zero crank speed in rad/s, got {speed}"
+                )
+        self.speed = speed
+        if np.ndim(angles) == 0:
+            n = int(angles)
+            if n < 8:
+                raise ValueError(f"angles: need at least 8 grid angles, got {n}")
+            self.base_angles = cycle(n)
+        else:
+            a = np.asarray(angles, dtype=float).ravel()
+            if a.size < 8 or not np.all(np.isfinite(a)):
+                raise ValueError("angles: need at least 8 finite grid angles (rad)")
+            self.base_angles = a
+        self.feasibility_margin = float(feasibility_margin)
+        self.tol = float(tol)
+        self.objective: Measure | None = None
+        self.sense = "min"
+        self.constraints: list[Constraint] = []
+        self._cache: dict = {}
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """Variable names, in the order of ``variables``."""
+        return tuple(self.variables)
+
+    # ------------------------------------------------------------------ building
+    def minimize(self, measure: Measure) -> Problem:
+        """Set the objective to minimize ``measure``; returns the problem."""
+        return self._set_objective(measure, "min")
+
+    def maximize(self, measure: Measure) -> Problem:
+        """Set the objective to maximize ``measure``; returns the problem."""
+        return self._set_objective(measure, "max")
+
+    def _set_objective(self, measure, sense):
+        if not isinstance(measure, Measure):
+            raise TypeError(f"the objective must be a Measure, got {type(measure).__name__}")
+        self.objective, self.sense = measure, sense
+        self._cache.clear()
+        return self
+
+    def subject_to(self, *constraints) -> Problem:
+        """Add constraints (``measure <= bound``, ``>=``, ``==``, or lists of them)."""
+        for c in constraints:
+            items = c if isinstance(c, Iterable) and not isinstance(c, Constraint) else [c]
+            for item in items:
+                if not isinstance(item, Constraint):
+                    raise TypeError(
+                        f"subject_to expects constraints such as `measure <= bound`, got {item!r}"
+                    )
+                if not np.isfinite(item.bound):
+                    raise ValueError(f"constraint {item.name}: the bound must be finite")
+                self.constraints.append(item)
+        self._cache.clear()
+        return self
+
+    def copy(self) -> Problem:
+        """An independent copy (same objective and constraints)."""
+        new = Problem(
+            self.mechanism,
+            self.variables,
+            self.fixed,
+            self.speed,
+            self.base_angles,
+            self.feasibility_margin,
+            self.tol,
+        )
+        new.objective, new.sense, new.constraints = (
+            self.objective,
+            self.sense,
+            list(self.constraints),
+        )
+        return new
+
+    def _transcription(self, n_extra: int = 16):
+        from .transcription import Transcription
+
+        key = ("transcription", int(n_extra))
+        if key not in self._cache:
+            self._cache[key] = Transcription(self, n_extra)
+        return self._cache[key]
+
+    # ------------------------------------------------------------------ analysis
+    def design(self, **values):
+        """The mechanism for variable values ``values`` (and the fixed parameters)."""
+        return self.mechanism(**{**self.fixed, **values})
+
+    def evaluate(self, design, n: int = 2048) -> dict[str, float]:
+        """Objective and constraint measures of ``design`` (a mechanism or ``{name: value}``),
+        evaluated on ``n`` equal crank-angle steps (no certification)."""
+        if isinstance(design, Mapping):
+            design = self.design(**design)
+        motion = design.motion(cycle(n), speed=self.speed)
+        out = {}
+        if self.objective is not None:
+            out[self.objective.name] = float(self.objective.from_motion(design, motion))
+        for c in self.constraints:
+            out[c.measure.name] = float(c.measure.from_motion(design, motion))
+        return out
+
+    # ------------------------------------------------------------------ solving
+    def solve(
+        self,
+        method: str = "ipopt",
+        starts: int = 8,
+        seed: int | None = 0,
+        progress: bool | None = None,
+        rtol: float = 1e-9,
+        max_rounds: int = 12,
+        n_dense: int = 2048,
+        options: dict | None = None,
+        x0=None,
+        polish: bool = True,
+        de_options: dict | None = None,
+    ):
+        """Solve the problem.
+
+        Parameters
+        ----------
+        method : ``"ipopt"`` (default; CasADi exact derivatives), ``"slsqp"`` (scipy, exact CasADi
+            gradients) or ``"de"`` (scipy differential evolution, then a certified IPOPT polish
+            unless ``polish=False``).
+        starts : number of valid Sobol start points of the local methods.
+        seed : seed of the Sobol sample and of differential evolution.
+        progress : show a tqdm bar over the starts (None: only on a terminal).
+        rtol : certification tolerance: grid peak vs true peak, relative.
+        max_rounds : limit of grid-refinement re-solves.
+        n_dense : angles of the dense evaluation that locates the true peaks.
+        options : options for the local solver (IPOPT options without the ``ipopt.`` prefix, or
+            scipy SLSQP options).
+        x0 : optional start design ``{name: value}`` tried first.
+        polish, de_options : for ``"de"``: local polish, and options of
+            ``scipy.optimize.differential_evolution`` plus ``angles`` (uniform grid, default 256)
+            and ``eq_rtol`` (equality tolerance, default 1e-4).
+
+        Returns
+        -------
+        Result
+        """
+        from .solvers import solve
+
+        return solve(
+            self,
+            method=method,
+            starts=starts,
+            seed=seed,
+            progress=progress,
+            rtol=rtol,
+            max_rounds=max_rounds,
+            n_dense=n_dense,
+            options=options,
+            x0=x0,
+            polish=polish,
+            de_options=de_options,
+        )
+
+    def __repr__(self) -> str:
+        obj = "no objective" if self.objective is None else f"{self.sense} {self.objective.name}"
+        cons = ", ".join(c.name for c in self.constraints) or "none"
+        return f"Problem({self.mechanism.__name__}, {obj}; subject to: {cons})"

@@ -1,0 +1,284 @@
+"""Results of a synthesis: the design, its values, the status and how the optimum was certified.
+
+Statuses (one vocabulary for every solver in :mod:`mechsynth.synthesis`):
+
+``"optimal"``
+    converged, every constraint holds within tolerance, and every peak is certified (the grid
+    peak equals the true continuous peak). ``success`` is True only for this status.
+``"infeasible"``
+    no start reached a design satisfying the constraints; the violated ones are named.
+``"max_iterations"``
+    the iteration limit was reached before convergence.
+``"uncertified"``
+    converged on the grid, but the refinement rounds ran out before the grid peak equalled the
+    true peak.
+``"solver_failed"``
+    any other failure (no valid start, evaluation errors, restoration failure).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+__all__ = ["STATUSES", "ConstraintValue", "Certification", "Result"]
+
+STATUSES = ("optimal", "infeasible", "max_iterations", "uncertified", "solver_failed")
+
+
+@dataclass(frozen=True)
+class ConstraintValue:
+    """A constraint at the reported design.
+
+    Attributes
+    ----------
+    name : e.g. ``"max_pressure_angle <= 0.523599"``.
+    value : the measure's value (true peaks for peak measures), SI units.
+    op, bound : the comparison and its right-hand side.
+    violation : how far outside the constraint (0 when it holds).
+    satisfied : ``violation <= tol * max(1, |bound|)``.
+    """
+
+    name: str
+    value: float
+    op: str
+    bound: float
+    violation: float
+    satisfied: bool
+
+    def to_dict(self) -> dict[str, Any]:
+        return dict(
+            name=self.name,
+            value=self.value,
+            op=self.op,
+            bound=self.bound,
+            violation=self.violation,
+            satisfied=self.satisfied,
+        )
+
+
+@dataclass(frozen=True)
+class Certification:
+    """How the reported optimum was established.
+
+    Attributes
+    ----------
+    method : "ipopt", "slsqp" or "de".
+    starts_requested, starts_run : multi-start count asked and run (a start that is not a valid
+        design, e.g. a crank that cannot turn, is skipped and replaced by the next Sobol point).
+    starts_skipped : invalid start points skipped.
+    starts_converged : local solves that converged to a feasible point.
+    local_optima : objective values (on the base grid) of the converged local solves, ascending.
+    spread : ``max - min`` of ``local_optima`` relative to the best (0 with one optimum).
+    peaks : :class:`~mechsynth.synthesis.certify.PeakCheck` per peak measure at the reported
+        design: solver grid value vs true value from dense evaluation + 1-D search.
+    refinement_rounds : re-solves after adding angles to the grid.
+    grid_angles : number of crank angles in the final grid (base + refinement).
+    refined_angles : the refinement angles added (rad).
+    certified : every peak's grid value equals its true value within ``rtol``.
+    rtol : certification tolerance.
+    cross_check : optional dict from a global method (e.g. differential evolution: its design
+        and value before the local polish).
+    """
+
+    method: str
+    starts_requested: int
+    starts_run: int
+    starts_skipped: int
+    starts_converged: int
+    local_optima: tuple[float, ...]
+    spread: float
+    peaks: tuple
+    refinement_rounds: int
+    grid_angles: int
+    refined_angles: tuple[float, ...]
+    certified: bool
+    rtol: float
+    cross_check: dict | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        return dict(
+            method=self.method,
+            starts_requested=self.starts_requested,
+            starts_run=self.starts_run,
+            starts_skipped=self.starts_skipped,
+            starts_converged=self.starts_converged,
+            local_optima=list(self.local_optima),
+            spread=self.spread,
+            peaks=[
+                dict(
+                    name=p.name,
+                    grid_value=p.grid_value,
+                    true_value=p.true_value,
+                    angle=p.angle,
+                    gap=p.gap,
+                )
+                for p in self.peaks
+            ],
+            refinement_rounds=self.refinement_rounds,
+            grid_angles=self.grid_angles,
+            refined_angles=list(self.refined_angles),
+            certified=self.certified,
+            rtol=self.rtol,
+            cross_check=self.cross_check,
+        )
+
+
+@dataclass(frozen=True)
+class Result:
+    """The outcome of :meth:`Problem.solve`.
+
+    Attributes
+    ----------
+    design : the mechanism at the reported point (an instance of the problem's class), or None
+        when no valid design was reached.
+    variables : ``{name: value}`` of the decision variables.
+    value : the objective at the design (true peaks), in the measure's units.
+    objective : the objective's name; ``sense`` is "min" or "max".
+    constraints : :class:`ConstraintValue` per constraint, in the order given.
+    success : True only for status "optimal".
+    status : one of :data:`STATUSES`.
+    message : one line; names the violated constraints when infeasible.
+    certification : :class:`Certification`.
+    solve_time : wall-clock seconds of the whole solve (all starts, refinement, dense checks).
+    speed : crank speed (rad/s) the measures use, None for analogs.
+    """
+
+    design: Any
+    variables: dict[str, float]
+    value: float
+    objective: str
+    sense: str
+    constraints: tuple[ConstraintValue, ...]
+    success: bool
+    status: str
+    message: str
+    certification: Certification
+    solve_time: float
+    speed: float | None = None
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def violated(self) -> list[ConstraintValue]:
+        """The constraints that do not hold at the reported design."""
+        return [c for c in self.constraints if not c.satisfied]
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dict (``mechsynth.jsonutil.dumps``)."""
+        return dict(
+            mechanism=type(self.design).__name__ if self.design is not None else None,
+            variables=self.variables,
+            design=self.design.params() if self.design is not None else None,
+            value=self.value,
+            objective=self.objective,
+            sense=self.sense,
+            constraints=[c.to_dict() for c in self.constraints],
+            success=self.success,
+            status=self.status,
+            message=self.message,
+            certification=self.certification.to_dict(),
+            solve_time=self.solve_time,
+            speed=self.speed,
+        )
+
+    # ----------------------------------------------------------------------- text
+    def report(self) -> str:
+        """A plain-text report: status, design, objective, constraints, certification."""
+        c = self.certification
+        lines = [
+            f"status: {self.status} ({'success' if self.success else 'FAILED'}) - {self.message}",
+            f"{self.sense}imize {self.objective} = {self.value:.10g}",
+        ]
+        speed = (
+            "analogs (crank speed 1 rad/s)"
+            if self.speed is None
+            else (f"{self.speed:.6g} rad/s ({self.speed * 60 / (2 * np.pi):.6g} rpm)")
+        )
+        lines.append(f"crank speed: {speed}")
+        lines.append("design:")
+        if self.design is not None:
+            for k, v in self.design.params().items():
+                mark = " (variable)" if k in self.variables else ""
+                lines.append(f"  {k:>12s} = {float(v):.10g}{mark}")
+        else:
+            for k, v in self.variables.items():
+                lines.append(f"  {k:>12s} = {v:.10g} (not a valid design)")
+        if self.constraints:
+            lines.append("constraints:")
+            for cv in self.constraints:
+                flag = "ok" if cv.satisfied else f"VIOLATED by {cv.violation:.3g}"
+                lines.append(f"  {cv.name:40s} value {cv.value:.10g}  [{flag}]")
+        lines.append(
+            f"certification ({c.method}): {c.starts_run} starts run ({c.starts_skipped} invalid "
+            f"skipped), {c.starts_converged} converged; spread of local optima {c.spread:.3g}"
+        )
+        for p in c.peaks:
+            lines.append(
+                f"  peak {p.name}: grid {p.grid_value:.12g}, true {p.true_value:.12g} at "
+                f"{np.rad2deg(p.angle):.6f} deg (gap {p.gap:.2g})"
+            )
+        lines.append(
+            f"  {c.refinement_rounds} refinement round(s); {c.grid_angles} grid angles; "
+            f"certified: {c.certified} (rtol {c.rtol:g})"
+        )
+        if c.cross_check:
+            cc = c.cross_check
+            lines.append(f"  cross-check {cc.get('method')}: value {cc.get('value')}")
+        lines.append(f"solve time: {self.solve_time * 1e3:.1f} ms")
+        return "\n".join(lines)
+
+    def __str__(self) -> str:
+        return self.report()
+
+    # ----------------------------------------------------------------------- figure
+    def plot(self, n=720, output=None):
+        """Motion curves of the design over one crank turn: position, velocity and acceleration
+        of the main output (slider, or the rocker's angle for a four-bar) and the pressure angle,
+        with the certified peak angles marked. Returns the matplotlib figure."""
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        if self.design is None:
+            raise ValueError(f"no valid design to plot (status {self.status})")
+        from ..units import cycle
+
+        phi = cycle(n)
+        m = self.design.motion(phi, speed=self.speed)
+        deg = np.rad2deg(phi)
+        fig, axes = plt.subplots(4, 1, sharex=True, figsize=(7.5, 9), constrained_layout=True)
+        analog = self.speed is None
+        if output is None:
+            output = "slider" if m.sliders else ("rocker" if "rocker" in m.links else "B")
+        if output in m.links:
+            tr = m.links[output]
+            series = (np.rad2deg(tr.angle), tr.omega, tr.epsilon)
+            units = ("deg", "rad/rad" if analog else "rad/s", "rad/rad²" if analog else "rad/s²")
+            labels = (f"{output} angle", f"{output} angular velocity", "angular acceleration")
+        elif output == "slider" or output in m.sliders:
+            tr = m.slider if output == "slider" else m.sliders[output]
+            series = (tr.position, tr.velocity, tr.acceleration)
+            units = ("m", "m/rad" if analog else "m/s", "m/rad²" if analog else "m/s²")
+            labels = ("slider position", "slider velocity", "slider acceleration")
+        else:
+            tr = m.points[output]
+            series = (tr.x, tr.velocity, tr.acceleration)
+            units = ("m", "m/rad" if analog else "m/s", "m/rad²" if analog else "m/s²")
+            labels = (f"{output} x", f"|v {output}|", f"|a {output}|")
+        for ax, y, u, lab in zip(axes, series, units, labels):
+            ax.plot(deg, np.asarray(y), lw=1.5)
+            ax.set_ylabel(f"{lab}, {u}")
+        axes[3].plot(deg, np.rad2deg(np.asarray(m.pressure_angle)), lw=1.5, color="C3")
+        axes[3].set_ylabel("pressure angle, deg")
+        for p in self.certification.peaks:
+            for ax in axes:
+                ax.axvline(np.rad2deg(p.angle), color="0.5", lw=0.8, ls="--")
+        axes[-1].set_xlabel("crank angle, deg")
+        for ax in axes:
+            ax.grid(True, alpha=0.4)
+        title = f"{type(self.design).__name__}: {self.sense} {self.objective} = {self.value:.6g}"
+        axes[0].set_title(f"{title}\n(dashed: certified peak angles; status {self.status})")
+        return fig

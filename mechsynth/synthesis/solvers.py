@@ -1,0 +1,704 @@
+"""Solvers behind :meth:`Problem.solve`: certified multi-start IPOPT or SLSQP, and differential
+evolution as the global cross-check.
+
+Local method (``"ipopt"``, ``"slsqp"``)
+    1. Sobol sample of the variable box (``scipy.stats.qmc``); points that are not valid designs
+       (the mechanism raises :class:`~mechsynth.errors.MechanismError`, or violates its
+       ``feasibility_constraints``) are skipped and replaced by the next point.
+    2. Each start is solved on the base grid (IPOPT through CasADi with exact first and second
+       derivatives, or scipy SLSQP with exact CasADi gradients).
+    3. The best feasible local optimum is *certified*: for every peak measure the true continuous
+       extremum is located (dense evaluation + 1-D local search); where the grid missed it, the
+       angle is added to the grid and the problem re-solved from the current point, until every
+       grid peak equals its true peak within ``rtol``.
+    4. The grid problem is a relaxation of the continuous one (fewer epigraph constraints), so a
+       start whose grid optimum is below the certified incumbent could still be better: such
+       starts are certified too.
+
+Global method (``"de"``)
+    scipy's differential evolution over the box, every population evaluated in one vectorized
+    numpy call on a uniform grid (invalid designs are masked and rejected by the feasibility
+    constraints). Its best design then seeds a certified IPOPT solve (``polish=True``); the
+    un-polished result is kept in ``certification.cross_check``.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..errors import MechanismError
+from .certify import check_peak
+from .result import Certification, ConstraintValue, Result
+from .transcription import Transcription, design_params, evaluate_form
+
+__all__ = ["solve"]
+
+_IPOPT_STATUS = {
+    "Solve_Succeeded": "optimal",
+    "Solved_To_Acceptable_Level": "optimal",
+    "Infeasible_Problem_Detected": "infeasible",
+    "Maximum_Iterations_Exceeded": "max_iterations",
+    "Maximum_CpuTime_Exceeded": "max_iterations",
+    "Maximum_WallTime_Exceeded": "max_iterations",
+}
+
+
+@dataclass
+class _Run:
+    """One local solve."""
+
+    x: np.ndarray
+    status: str
+    raw: str
+    iterations: int
+    scales: tuple
+    lam: Any = None  # multipliers for a warm re-start
+    objective: float = np.nan  # sense-adjusted (smaller is better), base/current grid
+    violation: float = np.inf  # max relative violation of user + feasibility constraints
+    design: Any = None
+
+
+def _flat(v, size=None):
+    a = np.asarray(v, dtype=float)
+    if a.ndim and a.shape[-1] == 1:
+        a = a[..., 0]
+    return a if size is None else np.broadcast_to(a, (size,)).copy()
+
+
+# ------------------------------------------------------------------------------ evaluation
+def _design(problem, tr, z):
+    return problem.mechanism(**design_params(problem, tr.params_of(np.clip(z, 0.0, 1.0))))
+
+
+def _hook_values(problem, params):
+    hook = getattr(problem.mechanism, "feasibility_constraints", None)
+    if hook is None:
+        return []
+    return [np.asarray(g, dtype=float) for _, g in hook(params, margin=problem.feasibility_margin)]
+
+
+def _rel_violation(c, value):
+    return float(c.violation(value)) / max(1.0, abs(c.bound))
+
+
+def _assess(problem, tr, run: _Run, grid):
+    """Objective and violation of a run's design on ``grid`` (numpy)."""
+    z = run.x[: tr.n]
+    try:
+        mech = _design(problem, tr, z)
+        motion = mech.motion(grid, speed=problem.speed)
+        f = float(evaluate_form(tr.objective, mech, motion))
+        viol = 0.0
+        for c, form in zip(problem.constraints, tr.constraints):
+            viol = max(viol, _rel_violation(c, float(evaluate_form(form, mech, motion))))
+        for g in _hook_values(problem, mech.params()):
+            viol = max(viol, float(-min(g, 0.0)))
+    except (MechanismError, ValueError, FloatingPointError):
+        run.design, run.objective, run.violation = None, np.nan, np.inf
+        return run
+    run.design = mech
+    run.objective = f if problem.sense == "min" else -f
+    run.violation = viol
+    return run
+
+
+def _scales(problem, tr: Transcription, z0, grid):
+    """Objective, epigraph and constraint scales at a start, and the start's tau values."""
+    mech = _design(problem, tr, z0)
+    motion = mech.motion(grid, speed=problem.speed)
+    f0 = float(evaluate_form(tr.objective, mech, motion))
+    f_scale = max(abs(f0), 1e-12)
+    t_scales, tau0 = [], []
+    for atom in tr.epigraphs:
+        if atom.kind == "peak":
+            pk = float(np.max(atom.q(mech, motion)))
+        else:
+            pk = float(max(float(b) for b in atom.measure.branches(mech)))
+        t = max(abs(pk), 1e-12)
+        t_scales.append(t)
+        tau0.append(pk / t)
+    g_scales = []
+    for c, form in zip(problem.constraints, tr.constraints):
+        v0 = float(evaluate_form(form, mech, motion))
+        g_scales.append(1.0 / max(abs(c.bound), abs(v0), 1e-9))
+    return (f_scale, np.array(t_scales), np.array(g_scales)), np.array(tau0)
+
+
+# ------------------------------------------------------------------------------ local solves
+_WARM = {
+    "warm_start_init_point": "yes",
+    "mu_init": 1e-8,
+    "warm_start_bound_push": 1e-9,
+    "warm_start_slack_bound_push": 1e-9,
+    "warm_start_mult_bound_push": 1e-9,
+}
+
+
+def _ipopt(tr: Transcription, x0, P, options, warm=None):
+    """IPOPT from ``x0``; ``warm`` = (lam_x, lam_g) of a previous solve re-starts close to it
+    (small barrier parameter) instead of from the centre of the box."""
+    opts = dict(options or {})
+    args = dict(x0=x0, p=P, lbx=tr.lbx, ubx=tr.ubx, lbg=tr.lbg, ubg=tr.ubg)
+    if warm is not None:
+        opts = {**_WARM, **opts}
+        args.update(lam_x0=warm[0], lam_g0=warm[1])
+    solver = tr.solver("ipopt", opts)
+    try:
+        sol = solver(**args)
+    except RuntimeError as exc:  # evaluation error at the start point
+        return np.asarray(x0, dtype=float), "solver_failed", str(exc).splitlines()[0], 0, None
+    stats = solver.stats()
+    raw = stats.get("return_status", "unknown")
+    x = np.asarray(sol["x"], dtype=float).ravel()
+    lam = (
+        np.asarray(sol["lam_x"], dtype=float).ravel(),
+        np.asarray(sol["lam_g"], dtype=float).ravel(),
+    )
+    status = _IPOPT_STATUS.get(raw, "solver_failed")
+    return x, status, raw, int(stats.get("iter_count", 0)), lam
+
+
+def _slsqp(tr: Transcription, x0, P, options, warm=None):
+    from scipy.optimize import minimize
+
+    f_fun, g_fun = tr.solver("functions")
+    cache: dict[str, Any] = {}
+
+    def fg(x):
+        key = x.tobytes()
+        if cache.get("key") != key:
+            f, df = f_fun(x, P)
+            g, jg = g_fun(x, P)
+            cache.update(
+                key=key,
+                f=float(f),
+                df=np.asarray(df, dtype=float).ravel(),
+                g=np.asarray(g, dtype=float).ravel(),
+                jg=np.asarray(jg, dtype=float).reshape(len(tr.lbg), -1),
+            )
+        return cache
+
+    eq = np.isfinite(tr.lbg) & (tr.lbg == tr.ubg)
+    up = np.isfinite(tr.ubg) & ~eq
+    lo = np.isfinite(tr.lbg) & ~eq
+    cons = []
+    if eq.any():
+        cons.append(
+            dict(
+                type="eq",
+                fun=lambda x: fg(x)["g"][eq] - tr.lbg[eq],
+                jac=lambda x: fg(x)["jg"][eq],
+            )
+        )
+    if up.any():
+        cons.append(
+            dict(
+                type="ineq",
+                fun=lambda x: tr.ubg[up] - fg(x)["g"][up],
+                jac=lambda x: -fg(x)["jg"][up],
+            )
+        )
+    if lo.any():
+        cons.append(
+            dict(
+                type="ineq",
+                fun=lambda x: fg(x)["g"][lo] - tr.lbg[lo],
+                jac=lambda x: fg(x)["jg"][lo],
+            )
+        )
+    bounds = [
+        (lb if np.isfinite(lb) else None, ub if np.isfinite(ub) else None)
+        for lb, ub in zip(tr.lbx, tr.ubx)
+    ]
+    opts = {"maxiter": 500, "ftol": 1e-12}
+    opts.update(options or {})
+    try:
+        res = minimize(
+            lambda x: fg(x)["f"],
+            np.asarray(x0, dtype=float),
+            jac=lambda x: fg(x)["df"],
+            method="SLSQP",
+            bounds=bounds,
+            constraints=cons,
+            options=opts,
+        )
+    except (ValueError, FloatingPointError) as exc:
+        return np.asarray(x0, dtype=float), "solver_failed", str(exc), 0, None
+    status = {0: "optimal", 9: "max_iterations", 4: "infeasible"}.get(res.status, "solver_failed")
+    return np.asarray(res.x, dtype=float), status, str(res.message), int(res.nit), None
+
+
+_LOCAL = {"ipopt": _ipopt, "slsqp": _slsqp}
+
+
+# ------------------------------------------------------------------------------ starts
+def _start_points(problem, tr: Transcription, starts, seed, x0):
+    """Up to ``starts`` valid start points (scaled to the box), the number skipped, and the
+    first reason a point was invalid."""
+    from scipy.stats import qmc
+
+    points, skipped, reason = [], 0, ""
+    candidates = []
+    if x0 is not None:
+        vals = [x0[k] if isinstance(x0, dict) else x0[i] for i, k in enumerate(problem.names)]
+        candidates.append(tr.z_of(vals))
+    m = int(2 ** np.ceil(np.log2(max(8 * starts, 16))))
+    sob = qmc.Sobol(d=tr.n, scramble=True, seed=seed).random(m)
+    candidates.extend(sob)
+    for z in candidates:
+        if len(points) >= starts:
+            break
+        try:
+            mech = _design(problem, tr, z)
+            mech.motion(problem.base_angles, speed=problem.speed)
+            bad = [g for g in _hook_values(problem, mech.params()) if float(g) < 0.0]
+            if bad:
+                raise MechanismError("violates the mechanism's feasibility constraints")
+        except (MechanismError, ValueError) as exc:
+            skipped += 1
+            reason = reason or str(exc)
+            continue
+        points.append(np.asarray(z, dtype=float))
+    return points, skipped, reason
+
+
+def _progress(iterable, total, progress, desc):
+    from tqdm.auto import tqdm
+
+    disable = None if progress is None else not progress
+    return tqdm(iterable, total=total, disable=disable, desc=desc, leave=False)
+
+
+# ------------------------------------------------------------------------------ certification
+def _peak_atoms(tr: Transcription):
+    seen, atoms = set(), []
+    for form in [tr.objective, *tr.constraints]:
+        for _, atom in form.terms:
+            if atom.kind == "peak" and id(atom.measure) not in seen:
+                seen.add(id(atom.measure))
+                atoms.append(atom)
+    return atoms
+
+
+class _Certifier:
+    """Refines the grid around one candidate until its peaks are certified."""
+
+    def __init__(self, problem, method, options, rtol, max_rounds, n_dense):
+        self.problem, self.method, self.options = problem, method, options
+        self.rtol, self.max_rounds, self.n_dense = rtol, max_rounds, n_dense
+        self.extra: list[float] = []
+        self.tr = problem._transcription(16)
+        self.atoms = _peak_atoms(self.tr)
+        self.rounds = 0
+
+    @property
+    def grid(self):
+        return np.concatenate([self.problem.base_angles, self.extra])
+
+    def checks(self, mech):
+        checks, new, true_q = [], [], {}
+        for atom in self.atoms:
+            chk, angles, tq = check_peak(
+                atom, mech, self.grid, self.problem.speed, self.rtol, self.n_dense
+            )
+            checks.append(chk)
+            new.extend(angles)
+            true_q[id(atom.measure)] = tq
+        return checks, new, true_q
+
+    def _add(self, angles):
+        for a in angles:
+            if all(abs(np.angle(np.exp(1j * (a - b)))) > 1e-12 for b in self.extra):
+                self.extra.append(a)
+        if len(self.extra) > self.tr.n_extra:
+            n = int(2 ** np.ceil(np.log2(len(self.extra))))
+            self.tr = self.problem._transcription(n)
+            return True
+        return False
+
+    def run(self, run: _Run):
+        """Certify ``run``; returns (run, checks, certified, true_q)."""
+        local = _LOCAL[self.method]
+        while True:
+            if run.design is None:
+                return run, (), False, {}
+            checks, new, true_q = self.checks(run.design)
+            if not new:
+                return run, tuple(checks), True, true_q
+            if self.rounds >= self.max_rounds:
+                return run, tuple(checks), False, true_q
+            rebuilt = self._add(new)
+            self.rounds += 1
+            P = self.tr.parameter_vector(self.grid, *run.scales)
+            warm = None if rebuilt else run.lam  # multipliers have the old size after a rebuild
+            x, status, raw, it, lam = local(self.tr, run.x, P, self.options, warm=warm)
+            if status != "optimal" and run.lam is not None:  # warm start failed: cold re-solve
+                x, status, raw, it, lam = local(self.tr, run.x, P, self.options)
+            new = _Run(x, status, raw, it, run.scales, lam)
+            run = _assess(self.problem, self.tr, new, self.grid)
+
+
+# ------------------------------------------------------------------------------ final numbers
+def _final(problem, tr, mech, true_q, rtol):
+    """Objective and constraint values at ``mech`` with true peaks (dense uniform grid for
+    averages)."""
+    from ..units import cycle
+
+    motion = mech.motion(cycle(2048), speed=problem.speed)
+    peaks = {}
+    for form in [tr.objective, *tr.constraints]:
+        for _, atom in form.terms:
+            if atom.kind == "peak" and id(atom.measure) in true_q:
+                peaks[atom] = true_q[id(atom.measure)]
+    value = float(evaluate_form(tr.objective, mech, motion, peaks))
+    cvs = []
+    for c, form in zip(problem.constraints, tr.constraints):
+        v = float(evaluate_form(form, mech, motion, peaks))
+        viol = float(c.violation(v))
+        cvs.append(
+            ConstraintValue(
+                c.name, v, c.op, c.bound, viol, viol <= problem.tol * max(1.0, abs(c.bound))
+            )
+        )
+    return value, tuple(cvs)
+
+
+def _feasible(run: _Run, tol) -> bool:
+    return run.status == "optimal" and run.design is not None and run.violation <= tol
+
+
+def solve(
+    problem,
+    method: str = "ipopt",
+    starts: int = 8,
+    seed: int | None = 0,
+    progress: bool | None = None,
+    rtol: float = 1e-9,
+    max_rounds: int = 12,
+    n_dense: int = 2048,
+    options: dict | None = None,
+    x0=None,
+    polish: bool = True,
+    de_options: dict | None = None,
+) -> Result:
+    """Solve ``problem``; see :meth:`Problem.solve` for the arguments."""
+    t_start = time.perf_counter()
+    if problem.objective is None:
+        raise ValueError("the problem has no objective: call minimize(...) or maximize(...)")
+    if method not in ("ipopt", "slsqp", "de"):
+        raise ValueError(f"method must be 'ipopt', 'slsqp' or 'de', got {method!r}")
+    starts = int(starts)
+    if starts < 1:
+        raise ValueError(f"starts must be at least 1, got {starts}")
+    cross = None
+    local_method = method
+    if method == "de":
+        cross, z_de = _differential_evolution(problem, seed, progress, de_options or {})
+        if not polish:
+            return _de_result(problem, cross, z_de, rtol, n_dense, t_start)
+        local_method, starts = "ipopt", 1
+        x0 = dict(zip(problem.names, problem._transcription(16).params_of(z_de)))
+
+    cert = _Certifier(problem, local_method, options, rtol, max_rounds, n_dense)
+    tr = cert.tr
+    grid = problem.base_angles
+    points, skipped, reason = _start_points(problem, tr, starts, seed, x0)
+    if not points:
+        return _failed_result(problem, method, starts, skipped, reason, t_start)
+    runs: list[_Run] = []
+    local = _LOCAL[local_method]
+    for z0 in _progress(points, len(points), progress, f"{local_method} starts"):
+        scales, tau0 = _scales(problem, tr, z0, grid)
+        P = tr.parameter_vector(grid, *scales)
+        x, status, raw, it, lam = local(tr, np.concatenate([z0, tau0]), P, options)
+        runs.append(_assess(problem, tr, _Run(x, status, raw, it, scales, lam), grid))
+
+    tol = problem.tol
+    feasible = sorted([r for r in runs if _feasible(r, tol)], key=lambda r: r.objective)
+    local_optima = tuple(
+        sorted(r.objective if problem.sense == "min" else -r.objective for r in feasible)
+    )
+    if feasible:
+        best, checks, certified, true_q = cert.run(feasible[0])
+        best_val = best.objective
+        # the grid problem is a relaxation: a start below the certified value may still win
+        for other in feasible[1:4]:
+            if other.objective >= best_val - 1e-9 * max(1.0, abs(best_val)):
+                break
+            cand = cert.run(other)
+            if (
+                cand[0].design is not None
+                and _feasible(cand[0], tol)
+                and cand[0].objective < best_val
+            ):
+                best, checks, certified, true_q = cand
+                best_val = best.objective
+    else:
+        best = min(
+            runs, key=lambda r: (r.violation, r.objective if np.isfinite(r.objective) else np.inf)
+        )
+        checks, certified, true_q = (), False, {}
+        if best.design is not None:
+            checks, _, true_q = cert.checks(best.design)
+            checks = tuple(checks)
+    tr = cert.tr
+    if best.design is not None:
+        value, cvs = _final(problem, tr, best.design, true_q, rtol)
+    else:
+        value, cvs = np.nan, ()
+    violated = [c for c in cvs if not c.satisfied]
+    if best.design is not None and _feasible(best, tol) and not violated:
+        status = "optimal" if certified else "uncertified"
+    elif best.status in ("optimal", "infeasible"):
+        status = "infeasible"
+    else:
+        status = best.status
+    message = _message(status, best, violated, cert, certified)
+    spread = 0.0
+    if len(local_optima) > 1:
+        spread = (local_optima[-1] - local_optima[0]) / max(abs(local_optima[0]), 1e-300)
+    certification = Certification(
+        method=method,
+        starts_requested=starts,
+        starts_run=len(runs),
+        starts_skipped=skipped,
+        starts_converged=len(feasible),
+        local_optima=local_optima,
+        spread=float(spread),
+        peaks=tuple(checks),
+        refinement_rounds=cert.rounds,
+        grid_angles=len(cert.grid),
+        refined_angles=tuple(cert.extra),
+        certified=bool(certified),
+        rtol=rtol,
+        cross_check=cross,
+    )
+    variables = dict(zip(problem.names, map(float, tr.params_of(np.clip(best.x[: tr.n], 0, 1)))))
+    return Result(
+        design=best.design,
+        variables=variables,
+        value=value,
+        objective=problem.objective.name,
+        sense=problem.sense,
+        constraints=cvs,
+        success=status == "optimal",
+        status=status,
+        message=message,
+        certification=certification,
+        solve_time=time.perf_counter() - t_start,
+        speed=problem.speed,
+    )
+
+
+def _message(status, run, violated, cert, certified):
+    if status == "optimal":
+        return f"converged and certified ({run.raw})"
+    if status == "uncertified":
+        return f"converged, but peaks not certified after {cert.rounds} refinement rounds"
+    names = "; ".join(
+        f"{c.name} (value {c.value:.6g}, violation {c.violation:.3g})" for c in violated
+    )
+    if status == "infeasible":
+        return "infeasible: violated " + (names or "the mechanism's feasibility constraints")
+    tail = f"; violated {names}" if names else ""
+    return f"{status}: solver says {run.raw}{tail}"
+
+
+def _failed_result(problem, method, starts, skipped, reason, t_start):
+    cert = Certification(
+        method, starts, 0, skipped, 0, (), 0.0, (), 0, len(problem.base_angles), (), False, 0.0
+    )
+    return Result(
+        design=None,
+        variables={},
+        value=np.nan,
+        objective=problem.objective.name,
+        sense=problem.sense,
+        constraints=(),
+        success=False,
+        status="solver_failed",
+        message=f"no valid start design in the box ({skipped} points tried; first: {reason})",
+        certification=cert,
+        solve_time=time.perf_counter() - t_start,
+        speed=problem.speed,
+    )
+
+
+# ------------------------------------------------------------------------------ global
+class _BatchEvaluator:
+    """Objective and constraint rows of a whole population in one numpy call."""
+
+    def __init__(self, problem, n_angles, eq_rtol):
+        from ..units import cycle
+
+        self.problem = problem
+        self.tr = problem._transcription(16)
+        self.phi = cycle(n_angles)
+        self.eq_rtol = eq_rtol
+        hook = getattr(problem.mechanism, "feasibility_constraints", None)
+        n_hook = 0
+        if hook is not None:
+            mid = design_params(problem, self.tr.params_of(np.full(self.tr.n, 0.5)))
+            n_hook = len(hook(mid, margin=problem.feasibility_margin))
+        self.n_hook = n_hook
+        lb, ub = [], []
+        for c in problem.constraints:
+            tol = eq_rtol * max(1.0, abs(c.bound)) if c.op == "==" else 0.0
+            lb.append(c.bound - tol if c.op in (">=", "==") else -np.inf)
+            ub.append(c.bound + tol if c.op in ("<=", "==") else np.inf)
+        self.lb = np.array(lb + [0.0] * n_hook)
+        self.ub = np.array(ub + [np.inf] * n_hook)
+        self._key = None
+
+    def __call__(self, Z):
+        """Z: (S, n) scaled points -> (objective (S,), rows (M, S))."""
+        key = Z.tobytes()
+        if key == self._key:
+            return self._val
+        S = Z.shape[0]
+        values = self.tr.params_of(np.clip(Z, 0.0, 1.0))
+        params = design_params(self.problem, [values[:, i] for i in range(self.tr.n)])
+        hook_rows = _hook_values(self.problem, params)
+        hook_rows = [np.broadcast_to(g, (S,)) for g in hook_rows]
+        valid = np.all(np.stack(hook_rows) >= 0.0, axis=0) if hook_rows else np.ones(S, bool)
+        f = np.full(S, np.inf)
+        rows = np.full((len(self.problem.constraints), S), np.nan)
+        idx = np.flatnonzero(valid)
+        if idx.size:
+            sub = design_params(self.problem, [values[idx, i][:, None] for i in range(self.tr.n)])
+            try:
+                fi, ri = self._eval(sub, idx.size)
+            except (MechanismError, ValueError):
+                fi, ri = self._eval_each(values[idx])
+            f[idx], rows[:, idx] = fi, ri
+        bad = ~np.isfinite(f)
+        f[bad] = np.inf
+        # invalid designs: constraint rows far outside; the hook rows rank them
+        rows[:, bad] = np.where(np.isfinite(self.ub[: rows.shape[0]]), 1e30, -1e30)[:, None]
+        allrows = np.vstack([rows] + ([np.stack(hook_rows)] if hook_rows else []))
+        sign = 1.0 if self.problem.sense == "min" else -1.0
+        self._key, self._val = key, (sign * f, allrows)
+        return self._val
+
+    def _eval(self, params, S):
+        mech = self.problem.mechanism(**params)
+        motion = mech.motion(self.phi, speed=self.problem.speed)
+        f = _flat(evaluate_form(self.tr.objective, mech, motion), S)
+        rows = [_flat(evaluate_form(form, mech, motion), S) for form in self.tr.constraints]
+        return f, np.array(rows).reshape(len(rows), S)
+
+    def _eval_each(self, values):
+        f = np.full(len(values), np.inf)
+        rows = np.full((len(self.problem.constraints), len(values)), np.nan)
+        for j, v in enumerate(values):
+            try:
+                fj, rj = self._eval(design_params(self.problem, list(v)), 1)
+            except (MechanismError, ValueError):
+                continue
+            f[j], rows[:, j] = fj[0], rj[:, 0]
+        return f, rows
+
+
+def _differential_evolution(problem, seed, progress, opts):
+    from scipy.optimize import NonlinearConstraint, differential_evolution
+
+    opts = dict(opts)
+    ev = _BatchEvaluator(problem, int(opts.pop("angles", 256)), float(opts.pop("eq_rtol", 1e-4)))
+    n = ev.tr.n
+
+    def fun(Zt):
+        return ev(np.atleast_2d(Zt.T))[0]
+
+    def con(Zt):
+        return ev(np.atleast_2d(Zt.T))[1]
+
+    kwargs = dict(
+        maxiter=300, popsize=20, tol=1e-10, atol=0.0, mutation=(0.5, 1.0), recombination=0.9
+    )
+    kwargs.update(opts)
+    constraints = NonlinearConstraint(con, ev.lb, ev.ub) if len(ev.lb) else ()
+    t0 = time.perf_counter()
+    res = differential_evolution(
+        fun,
+        [(0.0, 1.0)] * n,
+        constraints=constraints,
+        vectorized=True,
+        updating="deferred",
+        seed=seed,
+        polish=False,
+        **kwargs,
+    )
+    z = np.asarray(res.x, dtype=float)
+    f, rows = ev(z[None, :])
+    viol = 0.0
+    if len(ev.lb):
+        r = rows[:, 0]
+        viol = float(np.max(np.maximum(ev.lb - r, 0.0) + np.maximum(r - ev.ub, 0.0)))
+    sign = 1.0 if problem.sense == "min" else -1.0
+    cross = dict(
+        method="de",
+        value=float(sign * f[0]),
+        design=dict(zip(problem.names, map(float, ev.tr.params_of(z)))),
+        constraint_violation=viol,
+        nfev=int(res.nfev),
+        nit=int(res.nit),
+        time=time.perf_counter() - t0,
+        grid_angles=len(ev.phi),
+        message=str(res.message),
+    )
+    return cross, z
+
+
+def _de_result(problem, cross, z, rtol, n_dense, t_start):
+    """Result of differential evolution alone (no local polish): true peaks at its design."""
+    cert = _Certifier(problem, "ipopt", None, rtol, 0, n_dense)
+    tr = cert.tr
+    run = _assess(
+        problem, tr, _Run(np.asarray(z), "optimal", "differential evolution", 0, ()), cert.grid
+    )
+    checks, true_q = (), {}
+    if run.design is not None:
+        checks, _, true_q = cert.checks(run.design)
+        value, cvs = _final(problem, tr, run.design, true_q, rtol)
+    else:
+        value, cvs = np.nan, ()
+    violated = [c for c in cvs if not c.satisfied]
+    # without the local polish there is no optimality certificate: never "optimal"
+    status = "uncertified" if run.design is not None and not violated else "infeasible"
+    certification = Certification(
+        "de",
+        1,
+        1,
+        0,
+        int(status == "uncertified"),
+        (float(cross["value"]),),
+        0.0,
+        tuple(checks),
+        0,
+        len(cert.grid),
+        (),
+        False,
+        rtol,
+        cross,
+    )
+    msg = "differential evolution without local polish: no optimality certificate"
+    if violated:
+        msg += "; violated " + "; ".join(f"{c.name} (value {c.value:.6g})" for c in violated)
+    return Result(
+        design=run.design,
+        variables=dict(zip(problem.names, map(float, tr.params_of(z)))),
+        value=value,
+        objective=problem.objective.name,
+        sense=problem.sense,
+        constraints=cvs,
+        success=False,
+        status=status,
+        message=msg,
+        certification=certification,
+        solve_time=time.perf_counter() - t_start,
+        speed=problem.speed,
+    )

@@ -1,0 +1,366 @@
+"""From a :class:`~mechsynth.synthesis.Problem` to a smooth nonlinear program on a crank-angle grid.
+
+A measure expression (a :class:`~mechsynth.objectives.Combination` or a single measure) is
+flattened into ``constant + sum(weight * atom)``. Atoms are
+
+* ``peak``   -- a ``max``/``min`` :class:`~mechsynth.objectives.CycleMeasure`: a maximum over the
+  crank-angle grid and the measure's smooth branches;
+* ``scalar`` -- a closed-form :class:`~mechsynth.objectives.ScalarMeasure` (possibly a max over
+  smooth branches, like the time ratio);
+* ``average``-- a ``mean``/``rms`` cycle measure, a quadrature over the uniform base grid;
+* ``opaque`` -- any other measure, evaluated symbolically through ``from_motion``.
+
+A peak that the problem bounds from above (a minimized peak, ``peak <= bound``) becomes an
+epigraph: a variable ``t`` with ``branch(phi_i) <= t`` at every grid angle -- smooth, and exact
+on the grid. A peak on the other side (maximized, ``>=``, ``==``) uses the grid maximum
+directly; its derivative is the derivative at the grid's arg-max, which is the true derivative
+(Danskin) once certification has put the true arg-max into the grid.
+
+The grid is ``N`` uniform base angles plus ``K`` slots for refinement angles. The angles are
+*parameters* of the CasADi function, so refining the grid does not rebuild the solver.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..errors import SolverError
+from ..objectives.base import Combination, CycleMeasure, Measure, ScalarMeasure
+
+__all__ = ["Atom", "LinearForm", "flatten", "Transcription"]
+
+
+@dataclass(frozen=True, eq=False)
+class Atom:
+    """One measure inside an objective or constraint (see the module notes)."""
+
+    kind: str  # "peak", "scalar", "average", "opaque"
+    measure: Measure
+
+    @property
+    def sign(self) -> float:
+        """+1 when the atom is a max over its branches, -1 when it is a min."""
+        m = self.measure
+        return -1.0 if isinstance(m, CycleMeasure) and m.reduce == "min" else 1.0
+
+    @property
+    def sqrt(self) -> bool:
+        return isinstance(self.measure, CycleMeasure) and self.measure.outer == "sqrt"
+
+    @property
+    def is_max_type(self) -> bool:
+        """Value is (sign times) a maximum of smooth branches -> may use an epigraph."""
+        if self.kind == "peak":
+            return True
+        return self.kind == "scalar" and self.measure.has_branches
+
+    # numeric ------------------------------------------------------------------------
+    def q(self, mechanism, motion):
+        """Stacked per-angle branches ``q`` with ``value = sign * g(max q)`` (numpy:
+        shape (n_branches, ..., n_angles))."""
+        b = self.measure.branches(mechanism, motion)
+        return np.stack([self.sign * np.broadcast_to(x, np.shape(motion.phi)) for x in b])
+
+    def from_peak(self, peak):
+        """The measure's value from ``max q``."""
+        return self.sign * (np.sqrt(np.maximum(peak, 0.0)) if self.sqrt else peak)
+
+
+@dataclass(frozen=True, eq=False)
+class LinearForm:
+    """``constant + sum(weight * atom)``; ``name`` for reports."""
+
+    name: str
+    terms: tuple[tuple[float, Atom], ...]
+    constant: float
+    unit: str = ""
+
+
+def _atom(measure: Measure) -> Atom:
+    if isinstance(measure, CycleMeasure):
+        return Atom("peak" if measure.is_peak else "average", measure)
+    if isinstance(measure, ScalarMeasure):
+        return Atom("scalar", measure)
+    return Atom("opaque", measure)
+
+
+def flatten(measure: Measure, mechanism_class) -> LinearForm:
+    """Bind ``measure`` to the mechanism class and flatten it into a :class:`LinearForm`."""
+    if not isinstance(measure, Measure):
+        raise TypeError(f"expected a Measure, got {type(measure).__name__}: {measure!r}")
+    bound = measure.bind(mechanism_class)
+    terms: list[tuple[float, Atom]] = []
+    constant = 0.0
+
+    def walk(m, w):
+        nonlocal constant
+        if isinstance(m, Combination):
+            constant += w * m.constant
+            for wi, mi in m.terms:
+                walk(mi.bind(mechanism_class), w * wi)
+        else:
+            terms.append((w, _atom(m)))
+
+    walk(bound, 1.0)
+    return LinearForm(measure.name, tuple(terms), constant, getattr(measure, "unit", ""))
+
+
+# ---------------------------------------------------------------------------------- numeric
+def design_params(problem, values) -> dict[str, Any]:
+    """Mechanism keyword arguments from variable values (a sequence in ``problem.names`` order;
+    arrays give a batch)."""
+    params = dict(problem.fixed)
+    for name, v in zip(problem.names, values):
+        params[name] = v
+    return params
+
+
+def evaluate_form(form: LinearForm, mechanism, motion, peaks: dict | None = None):
+    """Numeric value of ``form``. ``peaks`` maps an atom to a known ``max q`` (e.g. the certified
+    true peak); otherwise the maximum over ``motion``'s angles is used. Averages use ``motion``
+    (give a uniform grid)."""
+    total = form.constant
+    for w, atom in form.terms:
+        if atom.kind == "peak":
+            if peaks is not None and atom in peaks:
+                peak = peaks[atom]
+            else:
+                peak = np.max(atom.q(mechanism, motion), axis=0).max(axis=-1)
+            value = atom.from_peak(peak)
+        elif atom.kind == "scalar":
+            value = atom.measure.fn(mechanism)
+        else:
+            value = atom.measure.from_motion(mechanism, motion)
+        total = total + w * value
+    return total
+
+
+# ---------------------------------------------------------------------------------- symbolic
+@dataclass
+class _Epigraph:
+    atom: Atom
+    rows: Any  # SX column of q/T - tau
+
+
+class Transcription:
+    """The smooth NLP of a problem over ``n_base + n_extra`` grid angles.
+
+    Decision vector ``x = [z, tau]``: the design variables scaled to [0, 1] in their box, then
+    the epigraph variables (each scaled by a parameter ``T``). Parameter vector
+    ``p = [phi (n_base + n_extra), f_scale, T (n_epi), g_scale (n_user)]``.
+
+    Attributes
+    ----------
+    lbx, ubx, lbg, ubg : bounds.
+    g_kinds : per row of ``g``: ``("user", i)``, ``("epigraph", k)``, ``("feasibility", name)``.
+    """
+
+    def __init__(self, problem, n_extra: int = 16):
+        import casadi as ca
+
+        self.problem = problem
+        self.cls = problem.mechanism
+        self.n = len(problem.names)
+        self.n_base = len(problem.base_angles)
+        self.n_extra = int(n_extra)
+        self.objective = flatten(problem.objective, self.cls)
+        self.constraints = [flatten(c.measure, self.cls) for c in problem.constraints]
+        self.lo = np.array([problem.variables[k][0] for k in problem.names], dtype=float)
+        self.hi = np.array([problem.variables[k][1] for k in problem.names], dtype=float)
+
+        z = ca.SX.sym("z", self.n)
+        phi = ca.SX.sym("phi", self.n_base + self.n_extra)
+        f_scale = ca.SX.sym("f_scale")
+        params = design_params(
+            problem, [self.lo[i] + (self.hi[i] - self.lo[i]) * z[i] for i in range(self.n)]
+        )
+        try:
+            mech = self.cls(**params)
+            motion = mech.motion(phi, speed=problem.speed)
+        except Exception as exc:  # a model not written with ops
+            raise SolverError(
+                f"{self.cls.__name__} cannot be evaluated with CasADi symbols ({exc}); "
+                "use method='de'"
+            ) from exc
+
+        epis: list[_Epigraph] = []
+        taus: list[Any] = []
+        t_scales: list[Any] = []
+        self._sqrt_tau: list[bool] = []
+
+        def column(x):
+            x = ca.SX(x) if not isinstance(x, ca.SX) else x
+            if x.numel() == 1:
+                x = ca.repmat(x, phi.numel(), 1)
+            return x
+
+        def atom_q(atom: Atom):
+            if atom.kind == "peak":
+                return ca.vertcat(
+                    *[atom.sign * column(b) for b in atom.measure.branches(mech, motion)]
+                )
+            return ca.vertcat(*[ca.SX(b) for b in atom.measure.branches(mech)])
+
+        def atom_value(atom: Atom, orientation: float):
+            """Symbolic value; an epigraph when ``orientation`` (+1: upper-bounded) agrees."""
+            if atom.kind in ("peak", "scalar") and atom.is_max_type:
+                q = atom_q(atom)
+                if orientation * atom.sign > 0:
+                    tau = ca.SX.sym(f"tau{len(taus)}")
+                    T = ca.SX.sym(f"T{len(taus)}")
+                    taus.append(tau)
+                    t_scales.append(T)
+                    self._sqrt_tau.append(atom.sqrt)
+                    epis.append(_Epigraph(atom, q / T - tau))
+                    peak = T * tau
+                else:
+                    peak = ca.mmax(q)
+                if atom.sqrt:
+                    return atom.sign * ca.sqrt(ca.fmax(peak, 1e-300))
+                return atom.sign * peak
+            if atom.kind == "scalar":
+                return atom.measure.fn(mech)
+            if atom.kind == "average":
+                samples = column(atom.measure.samples(mech, motion))[: self.n_base]
+                from ..objectives.base import reduce_cycle
+
+                return reduce_cycle(samples, atom.measure.reduce)
+            try:
+                return atom.measure.from_motion(mech, motion)
+            except Exception as exc:
+                raise SolverError(
+                    f"measure {atom.measure.name!r} cannot be evaluated with CasADi symbols "
+                    f"({exc}); use method='de'"
+                ) from exc
+
+        def form_value(form: LinearForm, orientation: float):
+            total = form.constant
+            for w, atom in form.terms:
+                total = total + w * atom_value(atom, orientation * np.sign(w))
+            return total
+
+        sense = 1.0 if problem.sense == "min" else -1.0
+        f = sense * form_value(self.objective, sense) / f_scale
+
+        g_rows, lbg, ubg, kinds = [], [], [], []
+        g_scales = []
+        for i, (c, form) in enumerate(zip(problem.constraints, self.constraints)):
+            gs = ca.SX.sym(f"g_scale{i}")
+            g_scales.append(gs)
+            floor_form = self._floor_equality(c, form)
+            if floor_form is not None:
+                q = atom_q(floor_form)
+                rows = (q - c.bound) * gs
+                g_rows.append(rows)
+                lbg += [-np.inf] * rows.numel()
+                ubg += [0.0] * rows.numel()
+                kinds += [("user", i)] * rows.numel()
+                continue
+            orientation = {"<=": 1.0, ">=": -1.0, "==": 0.0}[c.op]
+            v = form_value(form, orientation)
+            g_rows.append((v - c.bound) * gs)
+            lbg.append(0.0 if c.op in (">=", "==") else -np.inf)
+            ubg.append(0.0 if c.op in ("<=", "==") else np.inf)
+            kinds.append(("user", i))
+        for k, e in enumerate(epis):
+            g_rows.append(e.rows)
+            lbg += [-np.inf] * e.rows.numel()
+            ubg += [0.0] * e.rows.numel()
+            kinds += [("epigraph", k)] * e.rows.numel()
+        hook = getattr(self.cls, "feasibility_constraints", None)
+        self.feasibility_names: list[str] = []
+        if hook is not None:
+            for name, expr in hook(params, margin=problem.feasibility_margin):
+                g_rows.append(ca.SX(expr))
+                lbg.append(0.0)
+                ubg.append(np.inf)
+                kinds.append(("feasibility", name))
+                self.feasibility_names.append(name)
+
+        self.epigraphs = [e.atom for e in epis]
+        self.n_epi = len(taus)
+        self.n_user = len(problem.constraints)
+        self.x = ca.vertcat(z, *taus)
+        self.p = ca.vertcat(phi, f_scale, *t_scales, *g_scales)
+        self.f = f
+        self.g = ca.vertcat(*g_rows) if g_rows else ca.SX(0, 1)
+        self.lbg, self.ubg = np.array(lbg, dtype=float), np.array(ubg, dtype=float)
+        self.g_kinds = kinds
+        self.lbx = np.concatenate(
+            [np.zeros(self.n), [0.0 if s else -np.inf for s in self._sqrt_tau]]
+        )
+        self.ubx = np.concatenate([np.ones(self.n), np.full(self.n_epi, np.inf)])
+        self._solvers: dict[Any, Any] = {}
+
+    @staticmethod
+    def _floor_equality(c, form: LinearForm):
+        """The atom of ``measure == floor`` for a branched scalar with that floor, else None."""
+        if c.op != "==" or len(form.terms) != 1 or form.constant != 0.0:
+            return None
+        w, atom = form.terms[0]
+        m = atom.measure
+        if w == 1.0 and atom.kind == "scalar" and atom.is_max_type and m.floor is not None:
+            if abs(c.bound - m.floor) <= 1e-12 * max(1.0, abs(m.floor)):
+                return atom
+        return None
+
+    # ----------------------------------------------------------------- numeric helpers
+    def params_of(self, z):
+        return self.lo + (self.hi - self.lo) * np.asarray(z, dtype=float)
+
+    def z_of(self, values):
+        span = np.where(self.hi > self.lo, self.hi - self.lo, 1.0)
+        return (np.asarray(values, dtype=float) - self.lo) / span
+
+    def parameter_vector(self, phi_grid, f_scale, t_scales, g_scales):
+        grid = np.asarray(phi_grid, dtype=float)
+        full = np.empty(self.n_base + self.n_extra)
+        full[: grid.size] = grid
+        full[grid.size :] = grid[0]  # unused slots repeat an angle already in the grid
+        return np.concatenate([full, [f_scale], t_scales, g_scales])
+
+    def solver(self, method: str, options: dict | None = None):
+        """The cached CasADi solver ``method`` ("ipopt") or casadi Functions ("functions")."""
+        import casadi as ca
+
+        key = (method, tuple(sorted((options or {}).items())))
+        if key not in self._solvers:
+            if method == "ipopt":
+                opts = {
+                    "ipopt.print_level": 0,
+                    "print_time": False,
+                    "ipopt.sb": "yes",
+                    "ipopt.tol": 1e-10,
+                    "ipopt.acceptable_tol": 1e-7,
+                    "ipopt.constr_viol_tol": 1e-9,
+                    "ipopt.max_iter": 500,
+                    # a peak's epigraph has one constraint per grid angle: the default barrier
+                    # parameter (0.1) would push the epigraph variable far above the peak
+                    "ipopt.mu_strategy": "adaptive",
+                    "ipopt.mu_init": 1e-3,
+                    "error_on_fail": False,
+                    # designs outside the assemblable region give NaN; IPOPT backtracks
+                    "show_eval_warnings": False,
+                }
+                opts.update({f"ipopt.{k}": v for k, v in (options or {}).items()})
+                if "ipopt.print_level" in opts and opts["ipopt.print_level"] > 0:
+                    opts["ipopt.sb"] = "no"
+                nlp = {"x": self.x, "p": self.p, "f": self.f, "g": self.g}
+                self._solvers[key] = ca.nlpsol("mechsynth", "ipopt", nlp, opts)
+            elif method == "functions":
+                grad = ca.gradient(self.f, self.x)
+                jac = ca.jacobian(self.g, self.x)
+                self._solvers[key] = (
+                    ca.Function("f", [self.x, self.p], [self.f, grad]),
+                    ca.Function("g", [self.x, self.p], [self.g, jac]),
+                )
+            else:
+                raise ValueError(f"unknown transcription solver {method!r}")
+        return self._solvers[key]
+
+    def replace_extra(self, n_extra: int) -> Transcription:
+        """A new transcription with room for ``n_extra`` refinement angles."""
+        return Transcription(self.problem, n_extra)
