@@ -204,7 +204,10 @@ def peak_angular_acceleration(link="rocker") -> CycleMeasure:
 # ------------------------------------------------------------------------------ angles
 def max_pressure_angle() -> CycleMeasure:
     """Largest pressure angle over the cycle (rad): the angle between the force the driving link
-    transmits to the output and the output's velocity (``motion.pressure_angle``)."""
+    transmits to the output and the output's velocity (``motion.pressure_angle``).
+
+    The per-angle value has kinks where the pressure angle is zero; they are never at the peak,
+    so the epigraph constraints are smooth where they are active."""
     return CycleMeasure(
         "max_pressure_angle", lambda mech, motion: motion.pressure_angle, "max", "rad"
     )
