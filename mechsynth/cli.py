@@ -116,6 +116,62 @@ def _print_result(result, args) -> int:
     return 0 if result.data.get("success", True) is not False else 1
 
 
+# ------------------------------------------------------------------------------- optimize
+def _add_optimize(sub) -> None:
+    p = sub.add_parser(
+        "optimize",
+        help="solve a synthesis problem from a TOML file (see docs/synthesis.md)",
+        description="Solve a synthesis problem file; print the report, write result.json and "
+        "optimum.png into --out. Exits 2 when the problem is infeasible or the solver fails.",
+    )
+    p.add_argument("problem", help="problem file (TOML)")
+    p.add_argument("--method", choices=("ipopt", "slsqp", "de"), help="override the file's method")
+    p.add_argument("--starts", type=int, help="override the multi-start count")
+    p.add_argument("--seed", type=int, help="override the seed")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    _add_output_options(p)
+    p.set_defaults(func=_optimize_run)
+
+
+def _optimize_run(args) -> int:
+    from pathlib import Path
+
+    from .synthesis.problem_file import load_problem
+
+    spec = load_problem(args.problem)
+    overrides = {k: getattr(args, k) for k in ("method", "starts", "seed")}
+    overrides = {k: v for k, v in overrides.items() if v is not None}
+    if args.no_progress or args.json:
+        overrides["progress"] = False
+    res = spec.solve(**overrides)
+    files = []
+    if args.out:
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        (out / "result.json").write_text(dumps(res.to_dict()) + "\n")
+        (out / "report.txt").write_text(res.report() + "\n")
+        files += [out / "result.json", out / "report.txt"]
+        if res.design is not None:
+            import matplotlib
+
+            matplotlib.use("Agg")
+            import matplotlib.pyplot as plt
+
+            fig = res.plot()
+            fig.savefig(out / "optimum.png", dpi=120)
+            plt.close(fig)
+            files.append(out / "optimum.png")
+    if args.json:
+        print(dumps(res.to_dict()))
+    else:
+        print(res.report())
+        if files:
+            print("\nWritten:")
+            for f in files:
+                print(f"  {f}")
+    return 0 if res.success else EXIT_FAILED
+
+
 # ------------------------------------------------------------------------------- main
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
@@ -126,6 +182,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     _add_study(sub)
     _add_chart(sub)
+    _add_optimize(sub)
     return parser
 
 

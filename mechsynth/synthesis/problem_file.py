@@ -1,0 +1,270 @@
+"""Problem files: a synthesis problem in TOML, as read by ``mechsynth optimize problem.toml``.
+
+Format
+------
+Top-level keys come first (TOML puts every key after a ``[table]`` header into that table)::
+
+    mechanism = "slider-crank"          # a name in MECHANISMS
+    minimize = "peak_acceleration(slider)"     # or maximize = "..."
+    constraints = [
+        "stroke(slider) == 0.1 m",
+        "max_pressure_angle <= 30 deg",
+    ]
+    speed = "600 rpm"                   # crank speed; a number is rad/s; omit for analogs
+    method = "ipopt"                    # "ipopt" (default), "slsqp" or "de"
+    starts = 8                          # multi-start count (local methods)
+    seed = 0
+    angles = 64                         # base crank-angle grid
+
+    [variables]                         # name = [lower, upper]; numbers are SI (m, rad)
+    crank = [0.01, 0.2]
+    rod = ["50 mm", "200 mm"]           # or strings with a unit
+    offset = [-0.1, 0.1]
+
+    [fixed]                             # other parameters
+    # branch = "open"
+
+A measure is ``name`` or ``name(arg, ..., key=value)`` with a name from :data:`MEASURES`
+(``peak_velocity``, ``peak_acceleration``, ``max_pressure_angle``, ``min_transmission_angle``,
+``stroke``, ``swing_angle``, ``time_ratio``, ``grashof_margin``, ``peak_angular_velocity``,
+``peak_angular_acceleration``); arguments are output/link names or numbers with units
+(``peak_velocity(C, direction=90 deg)``). A constraint is ``measure <op> number [unit]`` with
+``<=``, ``>=`` or ``==``. Constraints may also be tables::
+
+    [[constraints]]
+    measure = "stroke"
+    args = ["slider"]
+    op = "=="
+    value = 100
+    unit = "mm"
+
+Units: m, mm, cm, in; rad, deg; m/s, m/s^2, rad/s, rad/s^2; rpm (speed). Values are converted to
+SI; a unit that is not listed is an error.
+"""
+
+from __future__ import annotations
+
+import re
+import tomllib
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..kinematics import FourBar, SliderCrank
+from ..objectives.base import Constraint, Measure
+from ..objectives.kinematic import KINEMATIC_MEASURES
+from .problem import Problem
+
+__all__ = [
+    "MECHANISMS",
+    "MEASURES",
+    "UNITS",
+    "register_mechanism",
+    "register_measure",
+    "parse_measure",
+    "parse_constraint",
+    "parse_quantity",
+    "load_problem",
+    "ProblemSpec",
+]
+
+#: mechanism name in problem files -> class
+MECHANISMS: dict[str, type] = {"slider-crank": SliderCrank, "four-bar": FourBar}
+
+#: measure name in problem files -> factory returning a Measure
+MEASURES: dict[str, Any] = dict(KINEMATIC_MEASURES)
+
+#: unit -> factor to SI
+UNITS: dict[str, float] = {
+    "": 1.0,
+    "m": 1.0,
+    "mm": 1e-3,
+    "cm": 1e-2,
+    "in": 0.0254,
+    "inch": 0.0254,
+    "rad": 1.0,
+    "deg": np.pi / 180.0,
+    "m/s": 1.0,
+    "m/s^2": 1.0,
+    "m/s2": 1.0,
+    "rad/s": 1.0,
+    "rad/s^2": 1.0,
+    "rad/s2": 1.0,
+    "rpm": 2.0 * np.pi / 60.0,
+    "1": 1.0,
+}
+
+
+def register_mechanism(name: str, cls) -> None:
+    """Make ``cls`` available as ``mechanism = "name"`` in problem files."""
+    MECHANISMS[name] = cls
+
+
+def register_measure(name: str, factory) -> None:
+    """Make ``factory(*args, **kwargs) -> Measure`` available by ``name`` in problem files."""
+    MEASURES[name] = factory
+
+
+_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+
+
+def parse_quantity(text, what: str = "value") -> float:
+    """A number (SI) or a string ``"<number> <unit>"`` -> float in SI units."""
+    if isinstance(text, bool):
+        raise ValueError(f"{what}: expected a number, got {text!r}")
+    if isinstance(text, (int, float)):
+        return float(text)
+    m = re.fullmatch(rf"\s*({_NUMBER})\s*([A-Za-z/^0-9]*)\s*", str(text))
+    if not m:
+        raise ValueError(f"{what}: expected '<number> [unit]', got {text!r}")
+    unit = m.group(2)
+    if unit not in UNITS:
+        raise ValueError(f"{what}: unknown unit {unit!r} in {text!r}; known: {', '.join(UNITS)}")
+    return float(m.group(1)) * UNITS[unit]
+
+
+def _parse_arg(token: str):
+    token = token.strip().strip("'\"")
+    if re.fullmatch(rf"{_NUMBER}(\s*[A-Za-z/^0-9]+)?", token):
+        return parse_quantity(token, "argument")
+    if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", token):
+        raise ValueError(f"bad measure argument {token!r}")
+    return token
+
+
+def parse_measure(text: str) -> Measure:
+    """``"peak_velocity(C, direction=90 deg)"`` -> the Measure."""
+    m = re.fullmatch(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*(?:\((.*)\))?\s*", text)
+    if not m:
+        raise ValueError(f"cannot read the measure {text!r}: expected name or name(args)")
+    name, argtext = m.group(1), m.group(2)
+    if name not in MEASURES:
+        raise ValueError(f"unknown measure {name!r}; known measures: {', '.join(sorted(MEASURES))}")
+    args, kwargs = [], {}
+    if argtext and argtext.strip():
+        for part in argtext.split(","):
+            key, sep, value = part.partition("=")
+            if sep:
+                kwargs[key.strip()] = _parse_arg(value)
+            else:
+                args.append(_parse_arg(part))
+    try:
+        return MEASURES[name](*args, **kwargs)
+    except TypeError as exc:
+        raise ValueError(f"measure {text!r}: {exc}") from exc
+
+
+def parse_constraint(spec) -> Constraint:
+    """A constraint from ``"measure <op> number [unit]"`` or a table (see the module notes)."""
+    if isinstance(spec, dict):
+        known = {"measure", "args", "kwargs", "op", "value", "unit"}
+        extra = set(spec) - known
+        if extra:
+            raise ValueError(f"constraint table: unknown keys {sorted(extra)}; use {sorted(known)}")
+        try:
+            name, op, value = spec["measure"], spec["op"], spec["value"]
+        except KeyError as exc:
+            raise ValueError(f"constraint table needs measure, op and value: {spec!r}") from exc
+        if name not in MEASURES:
+            raise ValueError(f"unknown measure {name!r}; known: {', '.join(sorted(MEASURES))}")
+        measure = MEASURES[name](*spec.get("args", []), **spec.get("kwargs", {}))
+        unit = spec.get("unit", "")
+        if unit not in UNITS:
+            raise ValueError(f"constraint {name}: unknown unit {unit!r}")
+        bound = float(value) * UNITS[unit]
+    else:
+        m = re.fullmatch(r"(.*?)\s*(<=|>=|==)\s*(.+)", str(spec))
+        if not m:
+            raise ValueError(f"cannot read the constraint {spec!r}: expected 'measure <= value'")
+        measure, op = parse_measure(m.group(1)), m.group(2)
+        bound = parse_quantity(m.group(3), f"constraint {spec!r}")
+    if op not in ("<=", ">=", "=="):
+        raise ValueError(f"constraint operator must be <=, >= or ==, got {op!r}")
+    return Constraint(measure, op, bound)
+
+
+class ProblemSpec:
+    """A problem read from a file, with its solver settings.
+
+    Attributes
+    ----------
+    problem : the :class:`Problem`.
+    solve_options : keyword arguments for :meth:`Problem.solve` (method, starts, seed).
+    source : the file path.
+    """
+
+    def __init__(self, problem: Problem, solve_options: dict, source=None):
+        self.problem, self.solve_options, self.source = problem, solve_options, source
+
+    def solve(self, **overrides):
+        return self.problem.solve(**{**self.solve_options, **overrides})
+
+
+_TOP_KEYS = {
+    "mechanism",
+    "minimize",
+    "maximize",
+    "constraints",
+    "speed",
+    "method",
+    "starts",
+    "seed",
+    "angles",
+    "variables",
+    "fixed",
+    "title",
+}
+
+
+def load_problem(source) -> ProblemSpec:
+    """Read a problem file (a path, or a dict already parsed from TOML)."""
+    if isinstance(source, dict):
+        data, path = source, None
+    else:
+        path = Path(source)
+        with open(path, "rb") as fh:
+            try:
+                data = tomllib.load(fh)
+            except tomllib.TOMLDecodeError as exc:
+                raise ValueError(f"{path}: not valid TOML ({exc})") from exc
+    where = f"{path}: " if path else ""
+    unknown = set(data) - _TOP_KEYS
+    if unknown:
+        raise ValueError(
+            f"{where}unknown keys {sorted(unknown)} (a key written after a [table] header "
+            "belongs to that table: put top-level keys first)"
+        )
+    name = data.get("mechanism")
+    if name not in MECHANISMS:
+        raise ValueError(
+            f"{where}mechanism must be one of {', '.join(sorted(MECHANISMS))}, got {name!r}"
+        )
+    variables = {}
+    for k, bounds in (data.get("variables") or {}).items():
+        if not isinstance(bounds, list) or len(bounds) != 2:
+            raise ValueError(f"{where}variable {k!r}: expected [lower, upper], got {bounds!r}")
+        variables[k] = tuple(parse_quantity(b, f"variable {k!r}") for b in bounds)
+    fixed = {}
+    for k, v in (data.get("fixed") or {}).items():
+        fixed[k] = v if isinstance(v, bool) or k == "branch" else parse_quantity(v, f"fixed {k!r}")
+    speed = data.get("speed")
+    speed = None if speed is None else parse_quantity(speed, "speed")
+    prob = Problem(
+        MECHANISMS[name], variables, fixed, speed=speed, angles=int(data.get("angles", 64))
+    )
+    if ("minimize" in data) == ("maximize" in data):
+        raise ValueError(f"{where}give exactly one of minimize = '...' or maximize = '...'")
+    if "minimize" in data:
+        prob.minimize(parse_measure(data["minimize"]))
+    else:
+        prob.maximize(parse_measure(data["maximize"]))
+    constraints = data.get("constraints", [])
+    if not isinstance(constraints, list):
+        raise ValueError(f"{where}constraints must be a list of strings or [[constraints]] tables")
+    prob.subject_to(*[parse_constraint(c) for c in constraints])
+    opts = {}
+    for key in ("method", "starts", "seed"):
+        if key in data:
+            opts[key] = data[key]
+    return ProblemSpec(prob, opts, path)
