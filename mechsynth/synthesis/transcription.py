@@ -61,8 +61,9 @@ class Atom:
     def q(self, mechanism, motion):
         """Stacked per-angle branches ``q`` with ``value = sign * g(max q)`` (numpy:
         shape (n_branches, ..., n_angles))."""
-        b = self.measure.branches(mechanism, motion)
-        return np.stack([self.sign * np.broadcast_to(x, np.shape(motion.phi)) for x in b])
+        b = [np.asarray(x, dtype=float) for x in self.measure.branches(mechanism, motion)]
+        shape = np.broadcast_shapes(np.shape(motion.phi), *(x.shape for x in b))
+        return np.stack([self.sign * np.broadcast_to(x, shape) for x in b])
 
     def from_peak(self, peak):
         """The measure's value from ``max q``."""
