@@ -257,7 +257,7 @@ class Result:
             tr = m.links[output]
             series = (np.rad2deg(tr.angle), tr.omega, tr.epsilon)
             units = ("deg", "rad/rad" if analog else "rad/s", "rad/rad²" if analog else "rad/s²")
-            labels = (f"{output} angle", f"{output} angular velocity", "angular acceleration")
+            labels = (f"{output} angle", f"{output} ω", f"{output} ε")
         elif output == "slider" or output in m.sliders:
             tr = m.slider if output == "slider" else m.sliders[output]
             series = (tr.position, tr.velocity, tr.acceleration)
