@@ -101,7 +101,10 @@ def _chart_run(args) -> int:
 
 def _print_result(result, args) -> int:
     if args.json:
-        print(dumps(result.data))
+        payload = dict(result.data)
+        payload.setdefault("errata", list(result.errata))
+        payload.setdefault("files", [str(f) for f in result.files])
+        print(dumps(payload))
     else:
         print(result.summary)
         if result.errata:

@@ -8,7 +8,19 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["deg", "to_deg", "rpm", "to_rpm", "spm", "inch", "to_inch", "cycle", "dms"]
+__all__ = [
+    "deg",
+    "to_deg",
+    "rpm",
+    "to_rpm",
+    "spm",
+    "inch",
+    "to_inch",
+    "cycle",
+    "dms",
+    "to_dms",
+    "format_dms",
+]
 
 
 def deg(value):
@@ -67,3 +79,21 @@ def cycle(n: int = 360, *, start: float = 0.0, endpoint: bool = False) -> np.nda
 def dms(degrees: float, minutes: float = 0.0, seconds: float = 0.0) -> float:
     """Degrees, arc-minutes and arc-seconds -> radians (``dms(65, 59, 47)``)."""
     return float(np.deg2rad(degrees + minutes / 60.0 + seconds / 3600.0))
+
+
+def to_dms(angle: float) -> tuple[int, int, float]:
+    """Radians -> (degrees, arc-minutes, arc-seconds), the inverse of :func:`dms` (angle >= 0)."""
+    total = float(np.rad2deg(angle)) * 3600.0
+    if total < 0:
+        raise ValueError(f"to_dms expects a non-negative angle, got {angle} rad")
+    d, rest = divmod(total, 3600.0)
+    m, s = divmod(rest, 60.0)
+    return int(d), int(m), s
+
+
+def format_dms(angle: float) -> str:
+    """Radians -> ``'67°41\\'50"'`` rounded to the arc-second."""
+    seconds = round(float(np.rad2deg(angle)) * 3600.0)
+    d, rest = divmod(seconds, 3600)
+    m, s = divmod(rest, 60)
+    return f"{d}°{m:02d}'{s:02d}\""

@@ -37,7 +37,7 @@ class SliderCrank(Mechanism):
     --------
     >>> import mechsynth as ms
     >>> sc = ms.SliderCrank(crank=0.07, rod=0.24)
-    >>> round(sc.stroke, 6)
+    >>> print(round(float(sc.stroke), 6))
     0.14
     >>> m = sc.motion(ms.cycle(360), speed=ms.rpm(600))
     >>> m.slider.velocity.shape
@@ -162,3 +162,28 @@ class SliderCrank(Mechanism):
         """Time ratio of the slower stroke to the quicker one (>= 1; 1 for a centric design)."""
         inward, outward = self.crank_spans
         return ops.fmax(inward, outward) / ops.fmin(inward, outward)
+
+    # ---------------------------------------------------------------- paper 004
+    def extreme_velocity(self):
+        """Both extremes of the slider velocity analog ``dx_B/dphi`` (m/rad) over a turn.
+
+        Exact: the roots of the (correctly derived) degree-6 polynomial in ``sin(phi)`` of paper
+        004, filtered to true extrema and confirmed against a sampled cycle; see
+        :mod:`mechsynth.kinematics.extreme_velocity`. Works for batches of designs.
+
+        Returns
+        -------
+        ExtremeVelocity with ``.maximum`` and ``.minimum`` (each ``.angle`` in rad, ``.value`` in
+        m/rad, ``.lambda_s`` = peak / mean speed of its stroke), ``.stroke`` and the crank spans.
+
+        Examples
+        --------
+        >>> import mechsynth as ms
+        >>> ev = ms.SliderCrank(crank=1.0, rod=2.0).extreme_velocity()
+        >>> print(f"{-ev.minimum.value:.6f}", ms.units.format_dms(ev.minimum.angle))
+        1.123208 67°42'00"
+        """
+        from .extreme_velocity import extreme_velocity
+
+        return extreme_velocity(self.crank, self.rod, self.offset)
+
