@@ -11,6 +11,7 @@ angles and designs), CasADi exact derivatives for IPOPT, and cvxpy convex subpro
 from . import kinematics, objectives
 from .errors import MechanismError, SolverError
 from .kinematics import FourBar, Motion, SliderCrank
+from .kinematics.pumping_unit import BeamPumpingUnit
 from .synthesis import Problem, Result
 from .units import cycle, deg, dms, inch, rpm, spm, to_deg, to_inch, to_rpm
 
@@ -25,6 +26,7 @@ __all__ = [
     "SolverError",
     "SliderCrank",
     "FourBar",
+    "BeamPumpingUnit",
     "Motion",
     "cycle",
     "deg",

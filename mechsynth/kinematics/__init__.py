@@ -5,6 +5,7 @@ from .blocks import coupler_point, crank, dyad_rpr, dyad_rrp, dyad_rrr, link_ang
 from .dwell import DwellSliderCrank
 from .four_bar import FourBar, Grashof, grashof
 from .mechanism import Mechanism
+from .pumping_unit import BeamPumpingUnit, PumpMotion
 from .slider_crank import SliderCrank
 from .tracks import Jet, LinkTrack, Motion, PointJet, PointTrack, SliderTrack
 
@@ -28,4 +29,6 @@ __all__ = [
     "LinkTrack",
     "SliderTrack",
     "Motion",
+    "BeamPumpingUnit",
+    "PumpMotion",
 ]
