@@ -126,13 +126,18 @@ class DynamometerCard:
 
     def branches(self):
         """``(up, down)``: each a pair of arrays (position from the bottom, load), sorted by
-        position. The loop is rolled to start at its lowest point."""
+        position. The loop is rolled to start at its lowest point; the lowest and highest points
+        count to the upstroke."""
         x, w = self.position - self.position.min(), self.load
         start = int(np.argmin(x))
         x, w = np.roll(x, -start), np.roll(w, -start)
         top = int(np.argmax(x))
         up = (x[: top + 1], w[: top + 1])
-        down = (np.append(x[top:], x[0]), np.append(w[top:], w[0]))
+        # the loop's top and bottom points belong to the upstroke branch; the downstroke branch
+        # holds the points strictly after the top (np.interp holds its end values beyond them)
+        down = (x[top + 1 :], w[top + 1 :])
+        if down[0].size < 2 or up[0].size < 2:
+            raise ValueError("card: need at least two points on each of the up and down strokes")
         out = []
         for bx, bw in (up, down):
             order = np.argsort(bx, kind="stable")
@@ -395,7 +400,7 @@ def scan_counterbalance(theta, base_torque, phase=0.0, n=401, zooms=8):
             step = (hi - lo) / (n - 1)
             lo, hi = max(moments[k] - 4 * step, 0.0), moments[k] + 4 * step
         return Counterbalance(float(moments[k]), float(phase)), float(pk[k])
-    m = int(np.sqrt(n * 100))  # a 2-D grid of about 200 x 200
+    m = int(np.sqrt(n * 36))  # a 2-D grid of about 120 x 120
     ca, cb, half = 0.0, 0.0, span
     for _ in range(zooms):
         grid = np.linspace(-half, half, m)
