@@ -23,6 +23,10 @@ STUDIES: dict[str, tuple[str, str]] = {
         "mechsynth.studies.dwell",
         "Paper 003b: longest-dwell coupler-curve dwell linkage on a central slider-crank",
     ),
+    "beam-pump": (
+        "mechsynth.studies.beam_pump",
+        "Paper 000: axial vs desaxial Mark II-type pumping units; synthesis and Pareto front",
+    ),
 }
 
 

@@ -1,0 +1,37 @@
+"""Measures of beam pumping units (:class:`~mechsynth.kinematics.BeamPumpingUnit`).
+
+The polished rod is the unit's main slider (``"slider"`` / ``"polished_rod"``), so the kinematic
+measures apply directly (``peak_acceleration("slider")``, ``stroke("slider")``,
+``max_pressure_angle()``, ``time_ratio()``). This module adds the torque factor.
+"""
+
+from __future__ import annotations
+
+from .base import CycleMeasure
+
+__all__ = ["peak_torque_factor", "PUMPING_MEASURES"]
+
+
+def _tf(mechanism, motion):
+    tf = motion.extra.get("torque_factor") if motion.extra else None
+    if tf is None:
+        raise ValueError(f"{type(mechanism).__name__} has no torque factor (not a pumping unit)")
+    return tf
+
+
+def peak_torque_factor() -> CycleMeasure:
+    """Largest |torque factor| over the cycle (m/rad; crank torque per unit polished-rod load),
+    whatever the crank speed of the motion. Smooth branches ``(TF, -TF)``."""
+    from ..kinematics import ops
+
+    return CycleMeasure(
+        "peak_torque_factor",
+        lambda mech, motion: ops.fabs(_tf(mech, motion)),
+        "max",
+        "m/rad",
+        branches=lambda mech, motion: (_tf(mech, motion), -_tf(mech, motion)),
+    )
+
+
+#: name -> factory, for problem files
+PUMPING_MEASURES = {"peak_torque_factor": peak_torque_factor}

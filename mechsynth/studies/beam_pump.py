@@ -1,0 +1,489 @@
+"""Paper 000: axial vs desaxial one-armed (Mark II-type) beam pumping units, and their synthesis.
+
+Base geometry (where every dimension comes from)
+------------------------------------------------
+The paper takes "the dimensions of the Lufkin Mark II" but prints only the crank ``r``, pitman
+``l`` and pivot distance ``X_O2`` of its two desaxial variants (2a: r = 1.068 m, l = 4.3 m,
+X_O2 = 5.0 m; 2b: r = 0.908 m, l = 5.048 m, X_O2 = 3.5 m). By eqs. (2)-(3) both follow from one
+beam: rear arm ``k``, swing ``psi`` (``H = k1 psi``) and pivot height ``Y_O2``. Those three are
+fitted here to the four printed numbers (least squares; the residuals are reported), so the
+base beam is the one the paper's own numbers imply. The front arm ``k1`` is not recoverable
+from them (it only scales the polished-rod motion); it is set from the public API 11E geometry
+of the Lufkin Mark II M-912D-365-168 (A = 334 in, C = 270 in): ``k1 = k * 334 / 270``. The
+crank speed (6 strokes/min) and the idealized rectangular card (80 kN up, 45 kN down) used for
+the torque figure are assumptions of this study, not the paper's.
+
+Variants: the axial unit (B's chord passes through the crankshaft: ``X_O2 = k cos(psi/2)``,
+``r = h1/2``) and the desaxial 2a and 2b, all synthesized by eqs. (2)-(3) for the same stroke, so
+their strokes are equal by construction. Each turns in the direction that makes its upstroke the
+longer one (counter-clockwise with the well on the right, as the Mark II).
+"""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import numpy as np
+
+from ..dynamics.pump_torque import (
+    DynamometerCard,
+    optimal_counterbalance,
+    torque_curve,
+    torque_factor_table,
+)
+from ..kinematics.pumping_unit import BeamPumpingUnit, paper_crank_and_pitman
+from ..objectives import max_pressure_angle, peak_acceleration, stroke
+from ..objectives.pumping import peak_torque_factor
+from ..units import cycle, deg, spm
+from . import StudyResult
+
+#: the paper's printed desaxial variants (Figs. 4-5 captions)
+PUBLISHED = {
+    "2a": {"r": 1.068, "l": 4.3, "X_O2": 5.0},
+    "2b": {"r": 0.908, "l": 5.048, "X_O2": 3.5},
+}
+#: Lufkin Mark II M-912D-365-168, API 11E: A and C (in), for the ratio k1 / k
+MARK_II_A_IN, MARK_II_C_IN = 334.0, 270.0
+SPEED_SPM = 6.0
+CARD_UP, CARD_DOWN = 80e3, 45e3  # N, idealized rectangular card (assumed)
+PRESSURE_LIMIT_DEG = 30.0
+TF_LIMIT = 1.5  # m/rad
+
+
+def fit_base_geometry():
+    """Fit (k, psi, Y_O2) to the printed r, l of variants 2a and 2b via eqs. (2)-(3).
+
+    Returns a dict with k, psi (rad), Y_O2, the relative residuals and the implied r, l."""
+    from scipy.optimize import least_squares
+
+    def model(p):
+        k, psi, y = p
+        out = []
+        for v in PUBLISHED.values():
+            r, l, _, _ = paper_crank_and_pitman(psi, 1.0, k, -v["X_O2"], y, "mark-ii")
+            out.append((r, l))
+        return out
+
+    def residuals(p):
+        return [
+            (m - v[key]) / v[key]
+            for (r, l), v in zip(model(p), PUBLISHED.values())
+            for m, key in ((r, "r"), (l, "l"))
+        ]
+
+    sol = least_squares(residuals, x0=[6.0, 0.3, 4.0], xtol=1e-14, ftol=1e-14, gtol=1e-14)
+    k, psi, y = (float(v) for v in sol.x)
+    fitted = {name: {"r": r, "l": l} for name, (r, l) in zip(PUBLISHED, model(sol.x))}
+    return {
+        "k": k,
+        "psi": psi,
+        "Y_O2": y,
+        "residuals": [float(r) for r in sol.fun],
+        "max_rel_residual": float(np.max(np.abs(sol.fun))),
+        "fitted": fitted,
+        "success": bool(sol.success),
+    }
+
+
+def base_design():
+    """The base beam: k, k1, Y_O2 and the stroke H (m)."""
+    fit = fit_base_geometry()
+    k = fit["k"]
+    k1 = k * MARK_II_A_IN / MARK_II_C_IN
+    return {"k": k, "k1": k1, "Y_O2": fit["Y_O2"], "H": k1 * fit["psi"], "fit": fit}
+
+
+def _longer_upstroke(unit: BeamPumpingUnit) -> BeamPumpingUnit:
+    return unit if float(unit.upstroke_span) >= np.pi - 1e-12 else unit.mirrored()
+
+
+def variants(base):
+    """The axial, 2a and 2b units (eqs. 2-3) plus 2a/2b with the printed r, l as given."""
+    k, k1, y, h = base["k"], base["k1"], base["Y_O2"], base["H"]
+    x_axial = k * np.cos(h / (2 * k1))
+    out = {}
+    for name, x in (("axial", x_axial), ("2a", 5.0), ("2b", 3.5)):
+        u = BeamPumpingUnit.from_stroke(h, k1, k, -x, y, "mark-ii", "ccw")
+        out[name] = _longer_upstroke(u)
+    printed = {}
+    for name, v in PUBLISHED.items():
+        u = BeamPumpingUnit(v["r"], v["l"], k, k1, -v["X_O2"], y, "mark-ii", "ccw")
+        printed[name] = _longer_upstroke(u)
+    return out, printed
+
+
+def extremes(unit: BeamPumpingUnit, theta, speed, card):
+    m = unit.motion(theta, speed=speed)
+    v, a = m.polished_rod.velocity, m.polished_rod.acceleration
+    up = np.asarray(m.torque_factor) > 0  # the loaded stroke
+    tc = torque_curve(unit, theta, card)
+    cb = optimal_counterbalance(theta, tc.well, free_phase=True, cross_check=False)
+    return {
+        "crank_m": float(unit.crank),
+        "pitman_m": float(unit.pitman),
+        "X_O2_m": float(-unit.pivot_x),
+        "rotation": unit.rotation,
+        "stroke_m": float(unit.stroke),
+        "upstroke_span_deg": float(np.rad2deg(unit.upstroke_span)),
+        "max_velocity": float(v.max()),
+        "min_velocity": float(v.min()),
+        "peak_velocity": float(np.abs(v).max()),
+        "max_acceleration": float(a.max()),
+        "min_acceleration": float(a.min()),
+        "peak_acceleration": float(np.abs(a).max()),
+        "upstroke_peak_acceleration": float(np.abs(a[up]).max()),
+        "downstroke_peak_acceleration": float(np.abs(a[~up]).max()),
+        "max_pressure_angle_deg": float(np.rad2deg(m.pressure_angle.max())),
+        "min_pressure_angle_deg": float(np.rad2deg(m.pressure_angle.min())),
+        "peak_torque_factor": float(np.abs(m.torque_factor).max()),
+        "peak_crank_torque_no_cb": float(np.abs(tc.well).max()),
+        "peak_net_torque_optimal_cb": cb.peak_torque,
+        "optimal_cb_moment": cb.counterbalance.moment,
+        "optimal_cb_phase_deg": float(np.rad2deg(cb.counterbalance.phase)),
+    }
+
+
+# ------------------------------------------------------------------------------ synthesis
+def synthesis_problem(base, pressure_limit=None, tf_limit=TF_LIMIT):
+    """Choose crank, pitman and the pivot position for the base beam and stroke: minimize the
+    peak polished-rod acceleration at 6 SPM subject to the stroke, a pressure-angle limit and a
+    torque-factor limit (Grashof full turn is added by the mechanism's feasibility hook).
+    ``pressure_limit`` in rad (default 30 deg), ``tf_limit`` in m/rad."""
+    from ..synthesis import Problem
+
+    if pressure_limit is None:
+        pressure_limit = deg(PRESSURE_LIMIT_DEG)
+
+    prob = Problem(
+        BeamPumpingUnit,
+        variables={
+            "crank": (0.5, 1.6),
+            "pitman": (3.0, 6.5),
+            "pivot_x": (-7.5, -2.5),
+            "pivot_y": (3.0, 5.0),
+        },
+        fixed={
+            "rear_arm": base["k"],
+            "front_arm": base["k1"],
+            "unit_class": "mark-ii",
+            "rotation": "ccw",
+        },
+        speed=spm(SPEED_SPM),
+    )
+    prob.minimize(peak_acceleration("slider"))
+    prob.subject_to(
+        stroke("slider") == base["H"],
+        max_pressure_angle() <= pressure_limit,
+        peak_torque_factor() <= tf_limit,
+    )
+    return prob
+
+
+def pareto(base, limits_deg, starts=3):
+    """Peak acceleration vs maximum pressure angle by the epsilon-constraint method: minimize the
+    peak acceleration for each pressure-angle limit. Returns a list of dicts."""
+    rows = []
+    for lim in limits_deg:
+        res = synthesis_problem(base, pressure_limit=deg(lim)).solve(starts=starts, progress=False)
+        row = {"limit_deg": float(lim), "status": res.status, "success": bool(res.success)}
+        if res.design is not None:
+            ev = {c.name: c.value for c in res.constraints}
+            pa = next(v for n, v in ev.items() if n.startswith("max_pressure_angle"))
+            row.update(
+                peak_acceleration=float(res.value),
+                max_pressure_angle_deg=float(np.rad2deg(pa)),
+                **{n: float(getattr(res.design, n)) for n in ("crank", "pitman")},
+                X_O2=float(-res.design.pivot_x),
+                Y_O2=float(res.design.pivot_y),
+            )
+        rows.append(row)
+    return rows
+
+
+def _nondominated(rows):
+    ok = [r for r in rows if r["success"]]
+    front = []
+    for r in ok:
+        dominated = any(
+            (
+                s["peak_acceleration"] <= r["peak_acceleration"] * (1 + 1e-9)
+                and s["max_pressure_angle_deg"] <= r["max_pressure_angle_deg"] + 1e-9
+                and (
+                    s["peak_acceleration"] < r["peak_acceleration"] * (1 - 1e-9)
+                    or s["max_pressure_angle_deg"] < r["max_pressure_angle_deg"] - 1e-9
+                )
+            )
+            for s in ok
+        )
+        if not dominated:
+            front.append(r)
+    return front
+
+
+# ------------------------------------------------------------------------------ run
+def run(out=None, n_angles=721, pareto_points=6, starts=3):
+    theta = cycle(n_angles - 1)
+    base = base_design()
+    fit = base["fit"]
+    units, printed = variants(base)
+    w = spm(SPEED_SPM)
+    card = DynamometerCard(
+        np.concatenate([np.linspace(0, 1, 50), np.linspace(1, 0, 50)]),
+        np.concatenate([np.full(50, CARD_UP), np.full(50, CARD_DOWN)]),
+        "idealized rectangular card (assumed)",
+    )
+    table = {name: extremes(u, theta, w, card) for name, u in units.items()}
+    printed_table = {name: extremes(u, theta, w, card) for name, u in printed.items()}
+
+    # the paper's findings, checked
+    ax, a2, b2 = table["axial"], table["2a"], table["2b"]
+    findings = {
+        "stroke_equal_by_construction": bool(
+            max(abs(t["stroke_m"] - base["H"]) for t in table.values()) <= 1e-9 * base["H"]
+        ),
+        "upstroke_span_grows_axial_2a_2b": bool(
+            ax["upstroke_span_deg"] < a2["upstroke_span_deg"] < b2["upstroke_span_deg"]
+        ),
+        "peak_velocity_drops_axial_2a_2b": bool(
+            ax["peak_velocity"] > a2["peak_velocity"] > b2["peak_velocity"]
+        ),
+        "peak_acceleration_drops_axial_2a_2b": bool(
+            ax["peak_acceleration"] > a2["peak_acceleration"] > b2["peak_acceleration"]
+        ),
+        "upstroke_peak_acceleration_drops": bool(
+            ax["upstroke_peak_acceleration"]
+            > a2["upstroke_peak_acceleration"]
+            > b2["upstroke_peak_acceleration"]
+        ),
+        "upstroke_max_velocity_drops": bool(
+            ax["max_velocity"] > a2["max_velocity"] > b2["max_velocity"]
+        ),
+        "pressure_angle_grows_axial_2a_2b": bool(
+            ax["max_pressure_angle_deg"]
+            < a2["max_pressure_angle_deg"]
+            < b2["max_pressure_angle_deg"]
+        ),
+        "peak_net_torque_drops_axial_2a_2b": bool(
+            ax["peak_net_torque_optimal_cb"]
+            > a2["peak_net_torque_optimal_cb"]
+            > b2["peak_net_torque_optimal_cb"]
+        ),
+    }
+    errata = [
+        "Eqs. (2)-(3) fix the stroke H for every pivot distance, so the axial and desaxial "
+        "variants have the same stroke (here equal to 1e-9): the 'longer working stroke' of "
+        "the desaxial units can only mean a longer upstroke in crank angle (time), which holds: "
+        f"{ax['upstroke_span_deg']:.2f} / {a2['upstroke_span_deg']:.2f} / "
+        f"{b2['upstroke_span_deg']:.2f} deg (axial / 2a / 2b).",
+        "The printed r, l of 2a and 2b are not exactly consistent with one beam: the best fit "
+        f"leaves relative residuals up to {fit['max_rel_residual']:.2e}; the printed values "
+        "used as given produce strokes of "
+        f"{printed_table['2a']['stroke_m']:.4f} and {printed_table['2b']['stroke_m']:.4f} m "
+        f"instead of {base['H']:.4f} m.",
+        "Eqs. (13)-(14) for U2', U3' are garbled in print (misplaced factor r and (U2 - 1) "
+        "term); the acceleration here comes from the exact second analog of the dyad, checked "
+        "against finite differences in the tests.",
+    ]
+    if not findings["peak_acceleration_drops_axial_2a_2b"]:
+        errata.append(
+            "Not confirmed: the peak polished-rod acceleration does not fall steadily from the "
+            f"axial to the desaxial units ({ax['peak_acceleration']:.4f} / "
+            f"{a2['peak_acceleration']:.4f} / {b2['peak_acceleration']:.4f} m/s^2 at "
+            f"{SPEED_SPM:g} SPM)."
+        )
+    if not findings["peak_velocity_drops_axial_2a_2b"]:
+        errata.append(
+            "Not confirmed: the peak polished-rod speed does not fall steadily from the axial to "
+            f"the desaxial units ({ax['peak_velocity']:.4f} / {a2['peak_velocity']:.4f} / "
+            f"{b2['peak_velocity']:.4f} m/s); the upstroke maximum "
+            f"({ax['max_velocity']:.4f} / {a2['max_velocity']:.4f} / {b2['max_velocity']:.4f}) "
+            "falls while the downstroke one rises."
+        )
+
+    # synthesis and Pareto front (epsilon-constraint loop; no shared Pareto helper yet)
+    best = synthesis_problem(base).solve(starts=starts, progress=False)
+    best_design = None
+    if best.design is not None:
+        d = best.design
+        both = {r: d.replace(rotation=r) for r in ("ccw", "cw")}
+        rot = max(both, key=lambda r: float(both[r].upstroke_span))
+        best_design = both[rot]
+    limits = np.linspace(14.0, 40.0, pareto_points)
+    rows = pareto(base, limits, starts=starts)
+    front = _nondominated(rows)
+
+    data = {
+        "success": bool(best.success),
+        "base": {
+            "k": base["k"],
+            "k1": base["k1"],
+            "Y_O2": base["Y_O2"],
+            "stroke_H": base["H"],
+            "swing_deg": float(np.rad2deg(fit["psi"])),
+            "fit_residuals": fit["residuals"],
+            "fit_r_l": fit["fitted"],
+        },
+        "speed_spm": SPEED_SPM,
+        "variants": table,
+        "printed_r_l_as_given": printed_table,
+        "findings": findings,
+        "synthesis": {
+            **best.to_dict(),
+            "chosen_rotation": None if best_design is None else best_design.rotation,
+            "upstroke_span_deg": None
+            if best_design is None
+            else float(np.rad2deg(best_design.upstroke_span)),
+        },
+        "pareto": {"method": "epsilon-constraint on the pressure angle", "points": rows},
+        "pareto_front": front,
+        "tf_table_2b": torque_factor_table(units["2b"], 15.0),
+    }
+
+    files = []
+    if out is not None:
+        files = _write(Path(out), theta, w, units, card, table, rows, front, data)
+    summary = _summary(base, fit, table, printed_table, findings, best, best_design, rows)
+    return StudyResult("beam-pump", summary, data, files, errata)
+
+
+def _summary(base, fit, table, printed, findings, best, best_design, rows):
+    lines = [
+        "Paper 000: one-armed (Mark II-type) beam pumping unit, axial vs desaxial",
+        f"base beam (fitted to the printed r, l by eqs. 2-3): k = {base['k']:.4f} m, "
+        f"swing = {np.rad2deg(fit['psi']):.3f} deg, Y_O2 = {base['Y_O2']:.4f} m; "
+        f"k1 = {base['k1']:.4f} m (Mark II A/C); stroke H = {base['H']:.4f} m",
+        "printed vs eqs. (2)-(3) on the fitted beam:",
+    ]
+    for name, v in PUBLISHED.items():
+        f = fit["fitted"][name]
+        lines.append(
+            f"  {name}: r {v['r']:.4f} vs {f['r']:.4f} m ({(f['r'] / v['r'] - 1) * 100:+.3f} %), "
+            f"l {v['l']:.4f} vs {f['l']:.4f} m ({(f['l'] / v['l'] - 1) * 100:+.3f} %)"
+        )
+    lines.append(
+        f"\n{'variant':8s} {'r':>7s} {'l':>7s} {'X_O2':>6s} {'up,deg':>7s} {'|v|max':>7s} "
+        f"{'|a|max':>7s} {'PA max':>7s} {'TFmax':>6s} {'T net':>9s}"
+    )
+    for name, t in list(table.items()) + [(f"{k}*", v) for k, v in printed.items()]:
+        lines.append(
+            f"{name:8s} {t['crank_m']:7.4f} {t['pitman_m']:7.4f} {t['X_O2_m']:6.3f} "
+            f"{t['upstroke_span_deg']:7.2f} {t['peak_velocity']:7.4f} "
+            f"{t['peak_acceleration']:7.4f} {t['max_pressure_angle_deg']:7.2f} "
+            f"{t['peak_torque_factor']:6.3f} {t['peak_net_torque_optimal_cb']:9.0f}"
+        )
+    lines.append("  (* printed r, l used as given; velocity m/s, acceleration m/s^2 at 6 SPM)")
+    lines.append("\nfindings of the paper, checked:")
+    for k, v in findings.items():
+        lines.append(f"  {k}: {'holds' if v else 'does NOT hold'}")
+    lines.append(f"\nsynthesis: {best.status}; {best.message}")
+    if best_design is not None:
+        lines.append(
+            f"  crank {best_design.crank:.4f} m, pitman {best_design.pitman:.4f} m, X_O2 "
+            f"{-best_design.pivot_x:.4f} m, Y_O2 {best_design.pivot_y:.4f} m, rotation "
+            f"{best_design.rotation}, upstroke {np.rad2deg(best_design.upstroke_span):.2f} deg, "
+            f"peak acceleration {best.value:.4f} m/s^2"
+        )
+    lines.append("Pareto (epsilon-constraint): limit deg -> peak |a| m/s^2, max pressure angle deg")
+    for r in rows:
+        if r["success"]:
+            lines.append(
+                f"  {r['limit_deg']:6.2f} -> {r['peak_acceleration']:.4f}, "
+                f"{r['max_pressure_angle_deg']:.2f}"
+            )
+        else:
+            lines.append(f"  {r['limit_deg']:6.2f} -> {r['status']}")
+    return "\n".join(lines)
+
+
+def _write(out, theta, w, units, card, table, rows, front, data):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ..jsonutil import dumps
+
+    files = []
+    x = np.rad2deg(theta)
+    fig, axes = plt.subplots(3, 1, sharex=True, figsize=(7, 8), constrained_layout=True)
+    for name, u in units.items():
+        m = u.motion(theta, speed=w)
+        axes[0].plot(x, m.polished_rod.position, label=name)
+        axes[1].plot(x, m.polished_rod.velocity, label=name)
+        axes[2].plot(x, m.polished_rod.acceleration, label=name)
+    for a, lab in zip(axes, ("position, m", "velocity, m/s", "acceleration, m/s²")):
+        a.set_ylabel(lab)
+        a.grid(True, alpha=0.4)
+    axes[0].set_title(f"Polished rod at {SPEED_SPM:g} SPM (paper 000, Fig. 3)")
+    axes[2].set_xlabel("crank angle from 12 o'clock, deg")
+    axes[0].legend()
+    files.append(out / "beam_pump_kinematics.png")
+    fig.savefig(files[-1], dpi=110)
+    plt.close(fig)
+
+    fig, ax = plt.subplots(figsize=(7, 4), constrained_layout=True)
+    for name, u in units.items():
+        tc = torque_curve(u, theta, card)
+        cb = optimal_counterbalance(theta, tc.well, free_phase=True, cross_check=False)
+        ax.plot(x, (tc.well - cb.counterbalance.torque(theta)) / 1e3, label=f"{name} net")
+        ax.plot(x, tc.well / 1e3, "--", lw=0.8, label=f"{name} no counterbalance")
+    ax.set_xlabel("crank angle, deg")
+    ax.set_ylabel("crank torque, kN m")
+    ax.set_title("Crank torque, rectangular card 80/45 kN, optimal counterbalance (Fig. 4)")
+    ax.grid(True, alpha=0.4)
+    ax.legend(fontsize=7)
+    files.append(out / "beam_pump_torque.png")
+    fig.savefig(files[-1], dpi=110)
+    plt.close(fig)
+
+    fig, ax = plt.subplots(figsize=(7, 4), constrained_layout=True)
+    for name, u in units.items():
+        ax.plot(x, np.rad2deg(u.motion(theta).pressure_angle), label=name)
+    ax.set_xlabel("crank angle, deg")
+    ax.set_ylabel("pressure angle, deg")
+    ax.set_title("Pressure angle between pitman and the velocity of B (Fig. 5)")
+    ax.grid(True, alpha=0.4)
+    ax.legend()
+    files.append(out / "beam_pump_pressure_angle.png")
+    fig.savefig(files[-1], dpi=110)
+    plt.close(fig)
+
+    ok = [r for r in rows if r["success"]]
+    fig, ax = plt.subplots(figsize=(6, 4), constrained_layout=True)
+    ax.plot([r["max_pressure_angle_deg"] for r in ok], [r["peak_acceleration"] for r in ok], "o")
+    ax.plot(
+        [r["max_pressure_angle_deg"] for r in front],
+        [r["peak_acceleration"] for r in front],
+        "k-",
+        label="non-dominated",
+    )
+    for name, t in table.items():
+        ax.plot(t["max_pressure_angle_deg"], t["peak_acceleration"], "s", label=name)
+    ax.set_xlabel("maximum pressure angle, deg")
+    ax.set_ylabel("peak polished-rod acceleration, m/s²")
+    ax.set_title("Pareto front (epsilon-constraint), same stroke and beam")
+    ax.grid(True, alpha=0.4)
+    ax.legend()
+    files.append(out / "beam_pump_pareto.png")
+    fig.savefig(files[-1], dpi=110)
+    plt.close(fig)
+
+    keys = list(next(iter(table.values())).keys())
+    with open(out / "beam_pump_extremes.csv", "w", newline="") as fh:
+        wr = csv.writer(fh)
+        wr.writerow(["variant", *keys])
+        for name, t in table.items():
+            wr.writerow([name, *[t[k] for k in keys]])
+    files.append(out / "beam_pump_extremes.csv")
+    with open(out / "beam_pump_pareto.csv", "w", newline="") as fh:
+        cols = ["limit_deg", "status", "peak_acceleration", "max_pressure_angle_deg", "crank",
+                "pitman", "X_O2", "Y_O2"]  # fmt: skip
+        wr = csv.writer(fh)
+        wr.writerow(cols)
+        for r in rows:
+            wr.writerow([r.get(c, "") for c in cols])
+    files.append(out / "beam_pump_pareto.csv")
+    (out / "beam_pump.json").write_text(dumps(data) + "\n")
+    files.append(out / "beam_pump.json")
+    return files

@@ -1,0 +1,84 @@
+"""The beam-pump study (paper 000): printed variants reproduced, the paper's findings checked,
+synthesis and Pareto front."""
+
+import json
+
+import numpy as np
+import pytest
+
+from mechsynth.studies import run_study
+from mechsynth.studies.beam_pump import PUBLISHED, base_design
+
+
+@pytest.fixture(scope="module")
+def result(tmp_path_factory):
+    out = tmp_path_factory.mktemp("beam_pump")
+    return run_study("beam-pump", out=out), out
+
+
+def test_printed_variants_reproduced_by_eqs_2_3():
+    # paper 000, captions of Figs. 4-5: 2a r = 1.068 m, l = 4.3 m, X_O2 = 5.0 m;
+    # 2b r = 0.908 m, l = 5.048 m, X_O2 = 3.5 m. One beam (k, swing, Y_O2) reproduces all four
+    # printed lengths by eqs. (2)-(3) to 0.05 % (the print's rounding).
+    fit = base_design()["fit"]
+    assert fit["success"]
+    for name, v in PUBLISHED.items():
+        assert fit["fitted"][name]["r"] == pytest.approx(v["r"], rel=6e-4)
+        assert fit["fitted"][name]["l"] == pytest.approx(v["l"], rel=6e-4)
+
+
+def test_findings(result):
+    res, _ = result
+    f = res.data["findings"]
+    # hold: same stroke (by construction), longer upstroke, lower upstroke velocity and
+    # acceleration extremes, larger pressure angle, lower peak net torque
+    for key in (
+        "stroke_equal_by_construction",
+        "upstroke_span_grows_axial_2a_2b",
+        "upstroke_max_velocity_drops",
+        "upstroke_peak_acceleration_drops",
+        "pressure_angle_grows_axial_2a_2b",
+        "peak_net_torque_drops_axial_2a_2b",
+    ):
+        assert f[key], key
+    # do not hold over the whole cycle: reported as errata
+    assert not f["peak_velocity_drops_axial_2a_2b"]
+    assert not f["peak_acceleration_drops_axial_2a_2b"]
+    assert any("peak polished-rod speed" in e for e in res.errata)
+    assert any("peak polished-rod acceleration" in e for e in res.errata)
+    v = res.data["variants"]
+    assert v["axial"]["upstroke_span_deg"] == pytest.approx(180.0, abs=1e-9)
+    for t in v.values():
+        assert t["stroke_m"] == pytest.approx(res.data["base"]["stroke_H"], rel=1e-9)
+
+
+def test_synthesis_beats_every_feasible_variant(result):
+    res, _ = result
+    syn = res.data["synthesis"]
+    assert syn["success"] and syn["status"] == "optimal"
+    assert syn["upstroke_span_deg"] >= 180.0
+    for t in res.data["variants"].values():
+        if t["max_pressure_angle_deg"] <= 30.0 and t["peak_torque_factor"] <= 1.5:
+            assert syn["value"] <= t["peak_acceleration"] * (1 + 1e-9)
+
+
+def test_pareto_front(result):
+    res, _ = result
+    pts = [p for p in res.data["pareto"]["points"] if p["success"]]
+    assert len(pts) >= 4
+    acc = np.array([p["peak_acceleration"] for p in pts])
+    assert np.all(np.diff(acc) <= 1e-7 * acc[:-1])  # looser limit, no worse optimum
+    for p in pts:
+        assert p["max_pressure_angle_deg"] <= p["limit_deg"] + 1e-6
+    assert res.data["pareto_front"]
+
+
+def test_files(result):
+    res, out = result
+    names = {p.name for p in res.files}
+    for n in ("beam_pump_kinematics.png", "beam_pump_torque.png", "beam_pump_pressure_angle.png",
+              "beam_pump_pareto.png", "beam_pump_extremes.csv", "beam_pump.json"):  # fmt: skip
+        assert n in names and (out / n).stat().st_size > 0
+    data = json.loads((out / "beam_pump.json").read_text())
+    assert set(data["variants"]) == {"axial", "2a", "2b"}
+    assert len(data["tf_table_2b"]) == 24
