@@ -66,6 +66,12 @@ CHARTS: dict[str, tuple[str, str, str]] = {
         "chart_dwell",
         "Paper 003b: dwell duration, band width 2E and stroke S_max of the dwell linkage",
     ),
+    "slider-crank": (
+        "mechsynth.synthesis.charts",
+        "chart_slider_crank",
+        "Offset slider-crank at a fixed stroke: peak slider acceleration, max pressure angle "
+        "and time ratio over (rod/crank, offset/crank)",
+    ),
 }
 
 

@@ -4,3 +4,9 @@ from .problem import Problem
 from .result import STATUSES, Certification, ConstraintValue, Result
 
 __all__ = ["Problem", "Result", "ConstraintValue", "Certification", "STATUSES"]
+
+from .charts import Chart, sweep  # noqa: E402
+from .convex import AffineMap, ConvexResult, affine_map, minimax_affine, minimax_cycle  # noqa: E402
+
+__all__ += ["Chart", "sweep", "AffineMap", "ConvexResult", "affine_map", "minimax_affine"]
+__all__ += ["minimax_cycle"]

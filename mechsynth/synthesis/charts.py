@@ -1,0 +1,764 @@
+"""Design charts (nomograms): measures swept over a grid of designs, vectorized.
+
+:func:`sweep` evaluates measures of a mechanism over every point of a grid of design parameters
+(or of any coordinates mapped to parameters, e.g. ratios at a fixed stroke). Designs are
+evaluated in chunks as one batch each -- the parameters are arrays broadcast against the crank
+angles -- so memory stays bounded and there is no Python loop over designs. Designs that cannot
+be built (the mechanism's feasibility conditions, or a :class:`~mechsynth.errors.MechanismError`
+on construction) are recorded in the boolean ``feasible`` mask; the values users see are masked
+arrays, never NaN.
+
+:class:`Chart` holds the result and draws a labelled contour nomogram (several measures
+overlaid, infeasible and constraint-violating regions hatched, the best design marked), and
+writes CSV and NPZ tables.
+
+>>> import numpy as np, mechsynth as ms
+>>> from mechsynth import objectives as ob
+>>> ch = sweep(ms.SliderCrank, grid={"crank": np.linspace(0.02, 0.08, 4),
+...                                  "offset": np.linspace(0.0, 0.05, 3)},
+...            fixed={"rod": 0.12}, measures={"pressure": ob.max_pressure_angle()},
+...            angles=90, progress=False)
+>>> ch.values["pressure"].shape, int(ch.feasible.sum())
+((4, 3), 11)
+
+The slider-crank chart of ``mechsynth chart slider-crank``: peak slider acceleration, maximum
+pressure angle and time ratio over the rod/crank ratio and the offset/crank ratio at a fixed
+stroke (:func:`slider_crank_chart`).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import MechanismError
+from ..objectives.base import Measure
+from ..units import cycle
+
+__all__ = ["Chart", "sweep", "slider_crank_chart", "chart_slider_crank"]
+
+_OPS = {
+    "<=": np.less_equal,
+    "<": np.less,
+    ">=": np.greater_equal,
+    ">": np.greater,
+}
+
+
+# ------------------------------------------------------------------------------ chart
+@dataclass(frozen=True)
+class Chart:
+    """Measures over a grid of designs.
+
+    Attributes
+    ----------
+    mechanism : the mechanism class.
+    grid : ``{name: 1-D values}``, the chart's axes in order; arrays below have the shape
+        ``tuple(len(v) for v in grid.values())`` (``indexing="ij"``).
+    values : ``{label: masked array}`` of each measure (SI units, see ``units``); masked where
+        the design is infeasible.
+    feasible : boolean array: the design can be built and every measure is finite there.
+    params : ``{name: masked array}`` of the mechanism parameters of each design.
+    units : ``{label: unit}`` of the measures.
+    labels : ``{grid name: axis label with unit}``.
+    angles : crank angles per cycle; ``speed`` the crank speed (rad/s) or None for analogs.
+    elapsed : seconds of the sweep.
+    reason : the first reason a design was infeasible (empty when all are feasible).
+    """
+
+    mechanism: Any
+    grid: dict[str, np.ndarray]
+    values: dict[str, np.ma.MaskedArray]
+    feasible: np.ndarray
+    params: dict[str, np.ma.MaskedArray]
+    units: dict[str, str]
+    labels: dict[str, str]
+    angles: int
+    speed: float | None
+    elapsed: float
+    reason: str = ""
+    measures: dict[str, Any] = field(default_factory=dict, repr=False)
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return self.feasible.shape
+
+    @property
+    def size(self) -> int:
+        return int(self.feasible.size)
+
+    # -------------------------------------------------------------- selection
+    def satisfied(self, where=None) -> np.ndarray:
+        """Boolean array: feasible designs that satisfy ``where``.
+
+        ``where`` is None, a boolean array of the grid's shape, or ``{label: (op, bound)}``
+        with ``op`` one of ``<=``, ``<``, ``>=``, ``>`` and ``bound`` in the measure's SI unit
+        (e.g. ``{"max pressure angle": ("<=", ms.deg(30))}``).
+        """
+        ok = self.feasible.copy()
+        if where is None:
+            return ok
+        if isinstance(where, np.ndarray):
+            if where.shape != self.shape:
+                raise ValueError(f"where has shape {where.shape}, the chart {self.shape}")
+            return ok & where.astype(bool)
+        for label, (op, bound) in where.items():
+            if label not in self.values:
+                raise ValueError(f"unknown measure {label!r}; chart has {', '.join(self.values)}")
+            if op not in _OPS:
+                raise ValueError(f"op must be one of {', '.join(_OPS)}, got {op!r}")
+            data = self.values[label].filled(np.nan)
+            with np.errstate(invalid="ignore"):
+                ok &= _OPS[op](data, float(bound))
+        return ok
+
+    def argbest(self, measure: str, where=None, sense: str = "min") -> dict[str, Any]:
+        """The best grid design for ``measure`` among the feasible designs satisfying ``where``.
+
+        Returns ``{"index", "grid": {name: value}, "params": {name: value}, "values": {label:
+        value}}``; raises ValueError when no grid design qualifies.
+        """
+        if measure not in self.values:
+            raise ValueError(f"unknown measure {measure!r}; chart has {', '.join(self.values)}")
+        if sense not in ("min", "max"):
+            raise ValueError(f"sense must be 'min' or 'max', got {sense!r}")
+        ok = self.satisfied(where)
+        if not ok.any():
+            raise ValueError(f"no feasible grid design satisfies {where!r}")
+        data = self.values[measure].filled(0.0)
+        score = np.where(ok, data if sense == "min" else -data, np.inf)
+        idx = np.unravel_index(int(np.argmin(score)), self.shape)
+        return dict(
+            index=tuple(int(i) for i in idx),
+            grid={n: float(v[i]) for (n, v), i in zip(self.grid.items(), idx)},
+            params={k: float(v[idx]) for k, v in self.params.items()},
+            values={k: float(v[idx]) for k, v in self.values.items()},
+        )
+
+    # -------------------------------------------------------------- tables
+    def _columns(self):
+        mesh = np.meshgrid(*self.grid.values(), indexing="ij")
+        cols: list[tuple[str, np.ndarray, np.ndarray | None]] = []
+        for name, m in zip(self.grid, mesh):
+            cols.append((name, m.ravel(), None))
+        for name, v in self.params.items():
+            cols.append((name, v.filled(0.0).ravel(), np.ma.getmaskarray(v).ravel()))
+        cols.append(("feasible", self.feasible.ravel().astype(int), None))
+        for label, v in self.values.items():
+            unit = self.units.get(label, "")
+            head = f"{label} [{unit}]" if unit else label
+            cols.append((head, v.filled(0.0).ravel(), np.ma.getmaskarray(v).ravel()))
+        return cols
+
+    def to_csv(self, path) -> Path:
+        """One row per design: grid coordinates, mechanism parameters, ``feasible`` (1/0) and
+        the measures in SI units (empty cells where infeasible)."""
+        path = Path(path)
+        cols = self._columns()
+        with path.open("w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow([c[0] for c in cols])
+            for i in range(self.size):
+                w.writerow(
+                    [
+                        ""
+                        if (mask is not None and mask[i])
+                        else (str(int(v[i])) if name == "feasible" else f"{v[i]:.10g}")
+                        for name, v, mask in cols
+                    ]
+                )
+        return path
+
+    def to_npz(self, path) -> Path:
+        """Arrays: ``grid/<name>`` (axes), ``value/<label>`` (zero where infeasible),
+        ``param/<name>``, ``feasible`` and ``meta`` (JSON: units, labels, angles, speed)."""
+        path = Path(path)
+        arrays: dict[str, np.ndarray] = {"feasible": self.feasible}
+        for n, v in self.grid.items():
+            arrays[f"grid/{n}"] = v
+        for n, v in self.params.items():
+            arrays[f"param/{n}"] = v.filled(0.0)
+        for n, v in self.values.items():
+            arrays[f"value/{n}"] = v.filled(0.0)
+        meta = dict(
+            mechanism=getattr(self.mechanism, "__name__", str(self.mechanism)),
+            units=self.units,
+            labels=self.labels,
+            angles=self.angles,
+            speed=self.speed,
+            grid=list(self.grid),
+            values=list(self.values),
+        )
+        arrays["meta"] = np.array(json.dumps(meta))
+        np.savez_compressed(path, **arrays)
+        return path
+
+    # -------------------------------------------------------------- figure
+    def _display(self, label):
+        """Values and unit for display: radians are shown in degrees."""
+        unit = self.units.get(label, "")
+        v = self.values[label]
+        if unit == "rad":
+            return np.rad2deg(v), "deg", np.rad2deg
+        return v, unit, lambda x: x
+
+    def plot(
+        self,
+        ax=None,
+        measures=None,
+        limits=None,
+        best: str | None = None,
+        best_sense: str = "min",
+        levels: int = 12,
+        fill: bool = True,
+        title: str | None = None,
+    ):
+        """Contour nomogram over the two grid axes.
+
+        Parameters
+        ----------
+        ax : a matplotlib axes (default: a new figure).
+        measures : labels to draw (default all); the first is filled with a colour bar, the
+            others are labelled contour lines in their own colours.
+        limits : ``{label: (op, bound)}`` (SI units) -- the regions that violate a limit are
+            hatched and its boundary drawn.
+        best : mark the grid design minimizing (``best_sense``) this measure among the feasible
+            designs within ``limits`` (default: the first measure; ``""`` marks none).
+        levels : contour levels per measure.
+
+        Infeasible designs (cannot be built) are shaded grey and cross-hatched. Radian measures
+        are shown in degrees. Returns the figure.
+        """
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        from matplotlib.lines import Line2D
+        from matplotlib.patches import Patch
+
+        if len(self.grid) != 2:
+            raise ValueError(f"plot needs a 2-D grid; this chart has axes {list(self.grid)}")
+        labels = list(self.values) if measures is None else list(measures)
+        for lab in labels:
+            if lab not in self.values:
+                raise ValueError(f"unknown measure {lab!r}; chart has {', '.join(self.values)}")
+        own = ax is None
+        fig = plt.figure(figsize=(8.5, 7.5), layout="constrained") if own else ax.figure
+        ax = fig.add_subplot() if own else ax
+        (xn, xv), (yn, yv) = self.grid.items()
+        X, Y = np.meshgrid(xv, yv, indexing="ij")
+        region = self.satisfied(limits) if limits else self.feasible
+        handles = []
+        colours = ["k", "C3", "C0", "C2", "C4", "C5"]
+        styles = ["-", "--", "-.", ":", "-", "--"]
+        for i, lab in enumerate(labels):
+            z, unit, _ = self._display(lab)
+            lv = _levels(z, region, levels)
+            if lv is not None:
+                if i == 0 and fill:
+                    cf = ax.contourf(X, Y, z, levels=lv, cmap="viridis", alpha=0.75, extend="both")
+                    cb = fig.colorbar(cf, ax=ax)
+                    cb.set_label(f"{lab}, {unit}" if unit else lab)
+                    cs = ax.contour(X, Y, z, levels=lv, colors="k", linewidths=0.6)
+                else:
+                    cs = ax.contour(
+                        X,
+                        Y,
+                        z,
+                        levels=lv,
+                        colors=colours[i % len(colours)],
+                        linewidths=1.1,
+                        linestyles=styles[i % len(styles)],
+                    )
+                ax.clabel(cs, fmt="%.4g", fontsize=7)
+            name = f"{lab}, {unit}" if unit else lab
+            handles.append(
+                Line2D(
+                    [], [], color=colours[i % len(colours)], ls=styles[i % len(styles)], label=name
+                )
+            )
+        infeasible = ~self.feasible
+        if infeasible.any():
+            with plt.rc_context({"hatch.color": "0.35", "hatch.linewidth": 0.6}):
+                ax.contourf(
+                    X,
+                    Y,
+                    infeasible.astype(float),
+                    levels=[0.5, 1.5],
+                    colors=["0.82"],
+                    hatches=["xx"],
+                )
+            handles.append(
+                Patch(facecolor="0.82", hatch="xx", edgecolor="0.35", label="infeasible design")
+            )
+        for j, (lab, (op, bound)) in enumerate((limits or {}).items()):
+            ok = self.satisfied({lab: (op, bound)})
+            bad = self.feasible & ~ok
+            colour = ["C3", "C1", "C6", "C9"][j % 4]
+            hatch = ["//", "\\\\", "||", "--"][j % 4]
+            z, unit, conv = self._display(lab)
+            shown = float(conv(bound))
+            if bad.any():
+                with plt.rc_context({"hatch.color": colour, "hatch.linewidth": 0.7}):
+                    ax.contourf(
+                        X, Y, bad.astype(float), levels=[0.5, 1.5], colors="none", hatches=[hatch]
+                    )
+                zmin, zmax = float(z.min()), float(z.max())
+                if zmin < shown < zmax:
+                    ax.contour(X, Y, z, levels=[shown], colors=colour, linewidths=2.2)
+            inv = {"<=": ">", "<": ">=", ">=": "<", ">": "<="}[op]
+            handles.append(
+                Patch(
+                    facecolor="none",
+                    hatch=hatch,
+                    edgecolor=colour,
+                    label=f"{lab} {inv} {shown:g} {unit}".rstrip(),
+                )
+            )
+        best = labels[0] if best is None else best
+        if best:
+            try:
+                b = self.argbest(best, where=limits, sense=best_sense)
+            except ValueError:
+                b = None
+            if b is not None:
+                bx, by = b["grid"][xn], b["grid"][yn]
+                z, unit, conv = self._display(best)
+                val = float(conv(b["values"][best]))
+                ax.plot(bx, by, marker="*", ms=16, color="gold", mec="k", zorder=5)
+                handles.append(
+                    Line2D(
+                        [],
+                        [],
+                        marker="*",
+                        ms=12,
+                        color="gold",
+                        mec="k",
+                        ls="none",
+                        label=f"best grid design: {best} = {val:.5g} {unit}".rstrip(),
+                    )
+                )
+        ax.set_xlabel(self.labels.get(xn, xn))
+        ax.set_ylabel(self.labels.get(yn, yn))
+        ax.grid(True, alpha=0.3, ls=":")
+        if own:
+            fig.legend(handles=handles, loc="outside lower center", ncol=2, fontsize=8)
+        else:
+            ax.legend(handles=handles, loc="best", fontsize=7, framealpha=0.9)
+        name = getattr(self.mechanism, "__name__", "")
+        ax.set_title(
+            title
+            or f"{name} design chart: {self.shape[0]} x {self.shape[1]} designs, "
+            f"{self.angles} crank angles",
+            fontsize=10,
+        )
+        return fig
+
+
+def _levels(z, region, n):
+    """Contour levels spanning the 1st-99th percentile of ``z`` inside ``region`` (all feasible
+    values when the region is empty), so that a few extreme designs near an infeasible boundary
+    do not flatten the chart. None when ``z`` is constant."""
+    from matplotlib.ticker import MaxNLocator
+
+    data = np.ma.getdata(z)[region & ~np.ma.getmaskarray(z)]
+    if data.size < 2:
+        data = np.ma.compressed(z)
+    if data.size < 2:
+        return None
+    lo, hi = np.percentile(data, [1.0, 99.0])
+    if not hi > lo:
+        return None
+    return MaxNLocator(n).tick_values(lo, hi)
+
+
+# ------------------------------------------------------------------------------ sweep
+def _flat(v, k):
+    a = np.asarray(v, dtype=float)
+    if a.ndim and a.shape[-1] == 1:
+        a = a[..., 0]
+    return np.broadcast_to(a, (k,))
+
+
+def _substitute(values: dict, ok: np.ndarray) -> dict:
+    """Rows that are not ``ok`` take the values of the first ``ok`` row (so the batch builds)."""
+    first = int(np.argmax(ok))
+    out = {}
+    for k, v in values.items():
+        if isinstance(v, np.ndarray) and v.ndim == 1 and v.size == ok.size:
+            out[k] = np.where(ok, v, v[first])
+        else:
+            out[k] = v
+    return out
+
+
+def _column(params: dict, rows=None) -> dict:
+    """Numeric 1-D parameters become (k, 1) columns (broadcast against the angles)."""
+    out = {}
+    for k, v in params.items():
+        if isinstance(v, np.ndarray) and v.ndim == 1:
+            out[k] = (v if rows is None else v[rows])[:, None]
+        else:
+            out[k] = v
+    return out
+
+
+def sweep(
+    mechanism,
+    grid: Mapping[str, Any],
+    measures: Mapping[str, Measure | Callable],
+    fixed: Mapping[str, Any] | None = None,
+    *,
+    design: Callable[[dict], dict] | None = None,
+    feasible: Callable[[dict], Any] | None = None,
+    angles=360,
+    speed: float | None = None,
+    chunk: int | None = None,
+    progress: bool = True,
+    labels: Mapping[str, str] | None = None,
+) -> Chart:
+    """Evaluate ``measures`` over every design of a grid, vectorized in chunks.
+
+    Parameters
+    ----------
+    mechanism : the mechanism class (e.g. ``ms.SliderCrank``).
+    grid : ``{name: 1-D values}``; the chart's axes. Names are mechanism parameters, or any
+        coordinates that ``design`` maps to parameters.
+    measures : ``{label: measure}``: :class:`~mechsynth.objectives.Measure` objects, or
+        functions ``(mechanism, motion) -> value per design``.
+    fixed : the other mechanism parameters.
+    design : optional ``fn({grid name: array}) -> {parameter: array}`` mapping grid coordinates
+        to mechanism parameters (arrays of the chunk's length, or numbers).
+    feasible : optional ``fn({grid name: array}) -> bool array``: designs known to be invalid
+        before ``design`` is applied (``design`` only sees valid ones).
+    angles : crank angles per cycle (count of equal steps, or an array in rad).
+    speed : crank speed (rad/s) for velocities and accelerations; None gives analogs.
+    chunk : designs per batch (default: about 2**18 design-angle points per batch).
+    progress : show a tqdm bar over the chunks (only on a terminal).
+    labels : ``{grid name: axis label with unit}`` for the figure.
+
+    Returns
+    -------
+    Chart
+
+    Notes
+    -----
+    Infeasible designs: ``feasible`` is applied first, then the mechanism's
+    ``feasibility_constraints`` hook (strictly positive margins), then construction; a batch
+    whose construction still raises :class:`~mechsynth.errors.MechanismError` is split until the
+    offending designs are isolated. Designs with a non-finite measure are infeasible too.
+    Raises ValueError when no design of the grid is feasible (the message gives the first
+    reason).
+    """
+    from tqdm.auto import tqdm
+
+    t0 = time.perf_counter()
+    if not grid:
+        raise ValueError("grid must name at least one axis")
+    if not measures:
+        raise ValueError("measures must hold at least one {label: measure}")
+    axes = {}
+    for name, values in grid.items():
+        a = np.asarray(values, dtype=float).ravel()
+        if a.size == 0 or not np.all(np.isfinite(a)):
+            raise ValueError(f"grid axis {name!r} must hold finite values")
+        axes[str(name)] = a
+    fixed = dict(fixed or {})
+    phi = cycle(int(angles)) if np.ndim(angles) == 0 else np.asarray(angles, dtype=float).ravel()
+    bound = {}
+    for label, m in measures.items():
+        if isinstance(m, Measure):
+            bound[label] = m.bind(mechanism)
+        elif callable(m):
+            bound[label] = m
+        else:
+            raise TypeError(f"measure {label!r} must be a Measure or a function, got {m!r}")
+    shape = tuple(a.size for a in axes.values())
+    total = int(np.prod(shape))
+    if chunk is None:
+        chunk = max(1, 2**18 // max(phi.size, 1))
+    chunk = int(chunk)
+    if chunk < 1:
+        raise ValueError(f"chunk must be >= 1, got {chunk}")
+    hook = getattr(mechanism, "feasibility_constraints", None)
+
+    ok_all = np.zeros(total, dtype=bool)
+    out = {label: np.zeros(total) for label in bound}
+    par_out: dict[str, np.ndarray] = {}
+    reason = [""]
+
+    def note(msg):
+        if not reason[0]:
+            reason[0] = msg
+
+    def evaluate(params, rows, ok_chunk, start):
+        """Build and evaluate designs ``rows`` of the chunk; split on MechanismError."""
+        try:
+            mech = mechanism(**_column(params, rows))
+            motion = mech.motion(phi, speed=speed)
+        except MechanismError as exc:
+            if rows.size == 1:
+                ok_chunk[rows] = False
+                note(str(exc))
+                return
+            half = rows.size // 2
+            evaluate(params, rows[:half], ok_chunk, start)
+            evaluate(params, rows[half:], ok_chunk, start)
+            return
+        k = rows.size
+        finite = np.ones(k, dtype=bool)
+        vals = {}
+        for label, m in bound.items():
+            if isinstance(m, Measure):
+                v = m.from_motion(mech, motion)
+            else:
+                v = m(mech, motion)
+            v = _flat(v, k)
+            finite &= np.isfinite(v)
+            vals[label] = v
+        if not finite.all():
+            note("a measure is not finite at some designs")
+        idx = start + rows
+        for label, v in vals.items():
+            out[label][idx] = np.where(finite, v, 0.0)
+        ok_chunk[rows] &= finite
+
+    n_chunks = -(-total // chunk)
+    bar = tqdm(
+        range(n_chunks),
+        disable=None if progress else True,
+        desc=f"sweep {total} designs",
+        leave=False,
+    )
+    for c in bar:
+        start = c * chunk
+        idx = np.arange(start, min(total, start + chunk))
+        k = idx.size
+        sub = np.unravel_index(idx, shape)
+        vals = {n: a[s] for (n, a), s in zip(axes.items(), sub)}
+        ok = np.ones(k, dtype=bool)
+        if feasible is not None:
+            ok &= np.broadcast_to(np.asarray(feasible(vals), dtype=bool), (k,))
+            if not ok.all():
+                note("outside the chart's feasible region (feasible=...)")
+        if not ok.any():
+            continue
+        vals = _substitute(vals, ok)
+        mapped = design(dict(vals)) if design is not None else vals
+        clash = set(mapped) & set(fixed)
+        if clash:
+            raise ValueError(f"parameters {sorted(clash)} are both on the grid and fixed")
+        params = {**fixed}
+        for name, v in mapped.items():
+            params[name] = (
+                np.broadcast_to(np.asarray(v, dtype=float), (k,)).copy()
+                if np.ndim(v) or isinstance(v, (int, float, np.floating))
+                else v
+            )
+        if hook is not None:
+            for cname, g in hook(params, margin=0.0):
+                good = np.broadcast_to(np.asarray(g, dtype=float) > 0.0, (k,))
+                if not good.all() and (ok & ~good).any():
+                    note(f"violates {cname}")
+                ok &= good
+        if not ok.any():
+            continue
+        params = _substitute(params, ok)
+        for name, v in params.items():
+            if isinstance(v, np.ndarray) and v.ndim == 1:
+                par_out.setdefault(name, np.zeros(total))[idx] = v
+        rows = np.flatnonzero(ok)
+        evaluate(params, rows, ok, start)
+        ok_all[idx] = ok
+    bar.close()
+    if not ok_all.any():
+        raise ValueError(f"no feasible design on the grid ({total} designs): {reason[0]}")
+    mask = ~ok_all.reshape(shape)
+    units = {}
+    for label, m in bound.items():
+        units[label] = getattr(m, "unit", "") if isinstance(m, Measure) else ""
+        orig = measures[label]
+        if isinstance(orig, Measure) and getattr(orig, "unit", ""):
+            units[label] = orig.unit
+    params_ma = {
+        n: np.ma.MaskedArray(v.reshape(shape), mask=mask.copy()) for n, v in par_out.items()
+    }
+    for n, v in fixed.items():
+        if isinstance(v, (int, float, np.floating)) and n not in params_ma:
+            params_ma[n] = np.ma.MaskedArray(np.full(shape, float(v)), mask=mask.copy())
+    return Chart(
+        mechanism=mechanism,
+        grid=axes,
+        values={
+            lab: np.ma.MaskedArray(v.reshape(shape), mask=mask.copy()) for lab, v in out.items()
+        },
+        feasible=~mask,
+        params=params_ma,
+        units=units,
+        labels={n: (labels or {}).get(n, n) for n in axes},
+        angles=int(phi.size),
+        speed=speed,
+        elapsed=time.perf_counter() - t0,
+        reason=reason[0],
+        measures=dict(measures),
+    )
+
+
+# ------------------------------------------------------------------------------ slider-crank
+def slider_crank_chart(
+    stroke: float = 0.1,
+    rod_crank=None,
+    offset_crank=None,
+    speed: float | None = None,
+    angles: int = 360,
+    progress: bool = True,
+    chunk: int | None = None,
+) -> Chart:
+    """Slider-crank chart at a fixed stroke: peak slider acceleration, maximum pressure angle,
+    time ratio and rod length over ``lambda = rod / crank`` and ``e / r = offset / crank``.
+
+    For each grid point the crank is the one giving the stroke ``H``: the stroke of an offset
+    slider-crank is ``r * f(lambda, e/r)`` with ``f`` the stroke of the design scaled to a unit
+    crank, so ``crank = H / f``. Designs with ``lambda <= 1 + |e/r|`` cannot make full turns
+    and are infeasible.
+
+    Parameters
+    ----------
+    stroke : H (m).
+    rod_crank, offset_crank : grid values (default 200 values each over [1.5, 8] and [0, 2]).
+    speed : crank speed (rad/s; default 600 rpm).
+    angles : crank angles per cycle.
+    """
+    from ..kinematics.slider_crank import SliderCrank
+    from ..objectives.base import ScalarMeasure
+    from ..objectives.kinematic import max_pressure_angle, peak_acceleration, time_ratio
+    from ..units import rpm
+
+    H = float(stroke)
+    if not np.isfinite(H) or H <= 0:
+        raise ValueError(f"stroke must be a positive length in m, got {stroke}")
+    lam = np.linspace(1.5, 8.0, 200) if rod_crank is None else np.asarray(rod_crank, float)
+    eps = np.linspace(0.0, 2.0, 200) if offset_crank is None else np.asarray(offset_crank, float)
+    speed = rpm(600) if speed is None else float(speed)
+
+    def feasible(v):
+        return v["rod/crank"] > 1.0 + np.abs(v["offset/crank"])
+
+    def design(v):
+        unit = SliderCrank(crank=1.0, rod=v["rod/crank"], offset=v["offset/crank"])
+        crank = H / np.asarray(unit.stroke)
+        return {"crank": crank, "rod": v["rod/crank"] * crank, "offset": v["offset/crank"] * crank}
+
+    return sweep(
+        SliderCrank,
+        grid={"rod/crank": lam, "offset/crank": eps},
+        measures={
+            "peak slider acceleration": peak_acceleration("slider"),
+            "max pressure angle": max_pressure_angle(),
+            "time ratio": time_ratio(),
+            "rod length": ScalarMeasure("rod length", lambda mech: mech.rod, "m"),
+        },
+        design=design,
+        feasible=feasible,
+        angles=angles,
+        speed=speed,
+        chunk=chunk,
+        progress=progress,
+        labels={
+            "rod/crank": "λ = rod / crank (–)",
+            "offset/crank": "e / r = offset / crank (–)",
+        },
+    )
+
+
+def chart_slider_crank(out, options):
+    """``mechsynth chart slider-crank``: options stroke=0.1 (m), rpm=600, n=60 (grid points
+    per axis), n_angles=360, rod_crank=1.5:8, offset_crank=0:2, pressure_limit_deg=30,
+    rod_max (m, optional: a limit on the rod length)."""
+    from ..studies import StudyResult
+    from ..units import deg, rpm
+
+    opts = dict(options)
+
+    def span(key, default):
+        try:
+            lo, hi = (float(v) for v in opts.pop(key, default).split(":"))
+        except ValueError as exc:
+            raise ValueError(f"{key} must be LOW:HIGH, e.g. {default}") from exc
+        return lo, hi
+
+    H = float(opts.pop("stroke", "0.1"))
+    speed_rpm = float(opts.pop("rpm", "600"))
+    n = int(opts.pop("n", "60"))
+    n_angles = int(opts.pop("n_angles", "360"))
+    limit_deg = float(opts.pop("pressure_limit_deg", "30"))
+    rod_max = opts.pop("rod_max", None)
+    l_lo, l_hi = span("rod_crank", "1.5:8")
+    e_lo, e_hi = span("offset_crank", "0:2")
+    if opts:
+        raise ValueError(f"unknown chart option(s): {', '.join(sorted(opts))}")
+    if n < 3:
+        raise ValueError(f"n (grid points per axis) must be >= 3, got {n}")
+    chart = slider_crank_chart(
+        H,
+        np.linspace(l_lo, l_hi, n),
+        np.linspace(e_lo, e_hi, n),
+        speed=rpm(speed_rpm),
+        angles=n_angles,
+    )
+    limits = {"max pressure angle": ("<=", deg(limit_deg))}
+    if rod_max is not None:
+        limits["rod length"] = ("<=", float(rod_max))
+    files = []
+    if out is not None:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        out = Path(out)
+        out.mkdir(parents=True, exist_ok=True)
+        files.append(chart.to_csv(out / "slider_crank_chart.csv"))
+        files.append(chart.to_npz(out / "slider_crank_chart.npz"))
+        fig = chart.plot(
+            measures=["peak slider acceleration", "max pressure angle", "time ratio"],
+            limits=limits,
+            best="peak slider acceleration",
+        )
+        fig.savefig(out / "slider_crank_chart.png", dpi=130)
+        plt.close(fig)
+        files.append(out / "slider_crank_chart.png")
+    best = chart.argbest("peak slider acceleration", where=limits)
+    rod_text = "" if rod_max is None else f" and rod <= {float(rod_max):g} m"
+    summary = (
+        f"slider-crank chart: stroke {H:g} m at {speed_rpm:g} rpm, {n} x {n} designs "
+        f"(rod/crank {l_lo:g}..{l_hi:g}, offset/crank {e_lo:g}..{e_hi:g}), {n_angles} crank "
+        f"angles, {int(chart.feasible.sum())} feasible, {chart.elapsed:.2f} s.\n"
+        f"Lowest peak slider acceleration with pressure angle <= {limit_deg:g} deg{rod_text} "
+        "on the grid: "
+        f"{best['values']['peak slider acceleration']:.6g} m/s^2 at rod/crank "
+        f"{best['grid']['rod/crank']:.4g}, offset/crank {best['grid']['offset/crank']:.4g} "
+        f"(crank {best['params']['crank'] * 1e3:.4g} mm, rod {best['params']['rod'] * 1e3:.4g} "
+        f"mm, offset {best['params']['offset'] * 1e3:.4g} mm; pressure angle "
+        f"{np.rad2deg(best['values']['max pressure angle']):.4g} deg, time ratio "
+        f"{best['values']['time ratio']:.4g})"
+    )
+    data = dict(
+        stroke=H,
+        rpm=speed_rpm,
+        grid=n,
+        n_angles=n_angles,
+        pressure_limit_deg=limit_deg,
+        rod_max=None if rod_max is None else float(rod_max),
+        feasible=int(chart.feasible.sum()),
+        elapsed=chart.elapsed,
+        best_on_grid=best,
+    )
+    return StudyResult("slider-crank-chart", summary, data, [Path(f) for f in files])
