@@ -52,8 +52,10 @@ from typing import Any
 import numpy as np
 
 from ..kinematics import FourBar, SliderCrank
+from ..kinematics.pumping_unit import BeamPumpingUnit
 from ..objectives.base import Constraint, Measure
 from ..objectives.kinematic import KINEMATIC_MEASURES
+from ..objectives.pumping import PUMPING_MEASURES
 from .problem import Problem
 
 __all__ = [
@@ -71,9 +73,11 @@ __all__ = [
 
 #: mechanism name in problem files -> class
 MECHANISMS: dict[str, type] = {"slider-crank": SliderCrank, "four-bar": FourBar}
+MECHANISMS["beam-pump"] = BeamPumpingUnit
 
 #: measure name in problem files -> factory returning a Measure
 MEASURES: dict[str, Any] = dict(KINEMATIC_MEASURES)
+MEASURES.update(PUMPING_MEASURES)
 
 #: unit -> factor to SI
 UNITS: dict[str, float] = {
@@ -92,6 +96,7 @@ UNITS: dict[str, float] = {
     "rad/s^2": 1.0,
     "rad/s2": 1.0,
     "rpm": 2.0 * np.pi / 60.0,
+    "spm": 2.0 * np.pi / 60.0,  # strokes per minute of a pumping unit: one crank turn each
     "1": 1.0,
 }
 
@@ -201,6 +206,9 @@ class ProblemSpec:
         return self.problem.solve(**{**self.solve_options, **overrides})
 
 
+#: fixed parameters that are words, not quantities
+_TEXT_FIXED = ("branch", "unit_class", "rotation")
+
 _TOP_KEYS = {
     "mechanism",
     "minimize",
@@ -247,7 +255,8 @@ def load_problem(source) -> ProblemSpec:
         variables[k] = tuple(parse_quantity(b, f"variable {k!r}") for b in bounds)
     fixed = {}
     for k, v in (data.get("fixed") or {}).items():
-        fixed[k] = v if isinstance(v, bool) or k == "branch" else parse_quantity(v, f"fixed {k!r}")
+        text = isinstance(v, bool) or k in _TEXT_FIXED
+        fixed[k] = v if text else parse_quantity(v, f"fixed {k!r}")
     speed = data.get("speed")
     speed = None if speed is None else parse_quantity(speed, "speed")
     prob = Problem(
