@@ -181,6 +181,39 @@ def _optimize_run(args) -> int:
     return 0 if res.success else EXIT_FAILED
 
 
+# ------------------------------------------------------------------------------- pump
+def _add_pump_parser(sub) -> None:
+    p = sub.add_parser("pump", help="beam pumping units: kinematics, torque, counterbalance")
+    psub = p.add_subparsers(dest="pump_cmd", required=True, metavar="{analyze}")
+    pa = psub.add_parser(
+        "analyze",
+        help="analyse a unit from its API 11E geometry (TOML), optionally with a card",
+        description="Print stroke, dead centres, upstroke/downstroke spans, torque-factor "
+        "extremes, peak polished-rod velocity and acceleration and the pressure-angle range; with "
+        "--card the gearbox torque and the counterbalance that minimizes its peak (LP, checked "
+        "by a scan). See docs/pumping_unit.md for the unit file. Exits 2 if the counterbalance "
+        "optimization fails.",
+    )
+    pa.add_argument("unit", help="unit file (TOML)")
+    pa.add_argument("--card", metavar="CSV", help="dynamometer card: position, load rows")
+    pa.add_argument(
+        "--units",
+        choices=("si", "oilfield"),
+        default="oilfield",
+        help="output units: oilfield (in, lb, in-lb, SPM; default) or si (m, N, N m)",
+    )
+    _add_output_options(pa)
+    pa.set_defaults(func=_pump_analyze)
+
+
+def _pump_analyze(args) -> int:
+    from .pump_analysis import analyze
+
+    result = analyze(args.unit, card=args.card, out=args.out, units=args.units)
+    rc = _print_result(result, args)
+    return EXIT_FAILED if rc else 0
+
+
 # ------------------------------------------------------------------------------- main
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
@@ -192,6 +225,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_study(sub)
     _add_chart(sub)
     _add_optimize(sub)
+    _add_pump_parser(sub)
     return parser
 
 

@@ -1,0 +1,341 @@
+"""``mechsynth pump analyze``: the analysis of one beam pumping unit from a TOML description.
+
+Unit file (TOML; top-level keys)::
+
+    designation = "C-320D-256-120"     # free text
+    unit_class = "conventional"        # or "mark-ii"
+    rotation = "cw"                    # seen with the well on the right
+    units = "in"                       # of the geometry, and of the loads: "in" (in, lb, in-lb)
+                                       #   or "m" (m, N, N m)
+    A = 155.00                         # API 11E geometry: A, C, I, P, R and K or (H, G)
+    C = 111.06
+    I = 111.02
+    P = 132.01
+    R = 42.01
+    H = 231.97
+    G = 95.98
+    spm = 8.0                          # strokes per minute
+    structural_unbalance = 450         # lb (N with units = "m"), optional
+    counterbalance_phase = 0.0         # deg, optional: the fixed phase of the counterweights
+    free_phase = false                 # optimize the phase too
+    gearbox_rating = 320000            # in-lb (N m), optional: loading and permissible load
+
+A dynamometer card (``--card card.csv``) has ``position, load`` rows in the unit file's units
+(in and lb, or m and N). Everything is computed in SI; ``--units oilfield`` prints in, lb, in-lb
+and SPM, ``--units si`` m, N, N m and rad/s.
+"""
+
+from __future__ import annotations
+
+import csv
+import tomllib
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .dynamics.pump_torque import (
+    DynamometerCard,
+    optimal_counterbalance,
+    permissible_load,
+    torque_curve,
+    torque_factor_table,
+)
+from .kinematics.pumping_unit import BeamPumpingUnit
+from .studies import StudyResult
+from .units import spm as spm_to_rad_s
+
+__all__ = ["load_unit", "analyze", "UNIT_KEYS", "OUTPUT_UNITS"]
+
+INCH = 0.0254
+POUND = 4.4482216152605
+UNIT_KEYS = {
+    "designation", "unit_class", "rotation", "units", "A", "C", "I", "P", "R", "K", "H", "G",
+    "spm", "structural_unbalance", "counterbalance_phase", "free_phase", "gearbox_rating",
+}  # fmt: skip
+
+#: output system -> {quantity: (unit label, factor from SI)}
+OUTPUT_UNITS = {
+    "si": {
+        "length": ("m", 1.0),
+        "speed": ("m/s", 1.0),
+        "accel": ("m/s^2", 1.0),
+        "force": ("N", 1.0),
+        "torque": ("N m", 1.0),
+        "tf": ("m", 1.0),
+    },
+    "oilfield": {
+        "length": ("in", 1.0 / INCH),
+        "speed": ("in/s", 1.0 / INCH),
+        "accel": ("in/s^2", 1.0 / INCH),
+        "force": ("lb", 1.0 / POUND),
+        "torque": ("in-lb", 1.0 / (POUND * INCH)),
+        "tf": ("in", 1.0 / INCH),
+    },
+}
+
+
+def load_unit(source) -> tuple[BeamPumpingUnit, dict[str, Any]]:
+    """Read a unit file (path or dict). Returns the unit and the operating data in SI:
+    ``speed`` (rad/s), ``spm``, ``structural_unbalance`` (N), ``phase`` (rad), ``free_phase``,
+    ``rating`` (N m or None), ``load_units`` ("in" or "m"), ``designation``."""
+    if isinstance(source, dict):
+        data, where = source, ""
+    else:
+        path = Path(source)
+        with open(path, "rb") as fh:
+            try:
+                data = tomllib.load(fh)
+            except tomllib.TOMLDecodeError as exc:
+                raise ValueError(f"{path}: not valid TOML ({exc})") from exc
+        where = f"{path}: "
+    unknown = set(data) - UNIT_KEYS
+    if unknown:
+        raise ValueError(f"{where}unknown keys {sorted(unknown)}; known: {sorted(UNIT_KEYS)}")
+    units = data.get("units", "m")
+    if units not in ("m", "in"):
+        raise ValueError(f"{where}units must be 'm' or 'in', got {units!r}")
+    missing = [k for k in ("A", "C", "I", "P", "R", "spm") if k not in data]
+    if missing:
+        raise ValueError(f"{where}missing {', '.join(missing)}")
+
+    def num(key, default=None):
+        v = data.get(key, default)
+        if v is None:
+            return None
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            raise ValueError(f"{where}{key} must be a number, got {v!r}")
+        if not np.isfinite(v):
+            raise ValueError(f"{where}{key} must be finite, got {v!r}")
+        return float(v)
+
+    unit = BeamPumpingUnit.from_api(
+        A=num("A"),
+        C=num("C"),
+        I=num("I"),
+        P=num("P"),
+        R=num("R"),
+        K=num("K"),
+        H=num("H"),
+        G=num("G"),
+        unit_class=data.get("unit_class", "conventional"),
+        rotation=data.get("rotation", "cw"),
+        units=units,
+    )
+    spm = num("spm")
+    if not spm > 0:
+        raise ValueError(f"{where}spm must be positive, got {spm}")
+    force = POUND if units == "in" else 1.0
+    torque = POUND * INCH if units == "in" else 1.0
+    rating = num("gearbox_rating")
+    if rating is not None and not rating > 0:
+        raise ValueError(f"{where}gearbox_rating must be positive, got {rating}")
+    free = data.get("free_phase", False)
+    if not isinstance(free, bool):
+        raise ValueError(f"{where}free_phase must be true or false, got {free!r}")
+    return unit, {
+        "designation": str(data.get("designation", "")),
+        "spm": spm,
+        "speed": spm_to_rad_s(spm),
+        "structural_unbalance": num("structural_unbalance", 0.0) * force,
+        "phase": np.deg2rad(num("counterbalance_phase", 0.0)),
+        "free_phase": free,
+        "rating": None if rating is None else rating * torque,
+        "load_units": units,
+    }
+
+
+def analyze(unit_file, card=None, out=None, units="oilfield", n=720) -> StudyResult:
+    """Analyse a unit (and a dynamometer card): see the module notes. Returns a
+    :class:`~mechsynth.studies.StudyResult` whose ``data`` is what ``--json`` prints (values in
+    the output ``units``, named in ``data["units"]``); ``data["success"]`` is False when the
+    counterbalance optimization fails."""
+    if units not in OUTPUT_UNITS:
+        raise ValueError(f"units must be 'si' or 'oilfield', got {units!r}")
+    unit, op = load_unit(unit_file)
+    U = OUTPUT_UNITS[units]
+
+    def cv(value, kind):
+        return float(value) * U[kind][1]
+
+    theta = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
+    m = unit.motion(theta, speed=op["speed"])
+    v, a, tf = m.polished_rod.velocity, m.polished_rod.acceleration, m.torque_factor
+    bottom, top = unit.dead_centres
+    data: dict[str, Any] = {
+        "designation": op["designation"],
+        "unit_class": unit.unit_class,
+        "rotation": unit.rotation,
+        "spm": op["spm"],
+        "units": {k: lab for k, (lab, _) in U.items()} | {"angle": "deg", "speed": U["speed"][0]},
+        "stroke": cv(unit.stroke, "length"),
+        "bottom_dead_centre_deg": float(np.rad2deg(bottom)),
+        "top_dead_centre_deg": float(np.rad2deg(top)),
+        "upstroke_span_deg": float(np.rad2deg(unit.upstroke_span)),
+        "downstroke_span_deg": float(np.rad2deg(unit.downstroke_span)),
+        "max_torque_factor": cv(tf.max(), "tf"),
+        "min_torque_factor": cv(tf.min(), "tf"),
+        "peak_upstroke_velocity": cv(v.max(), "speed"),
+        "peak_downstroke_velocity": cv(-v.min(), "speed"),
+        "peak_acceleration": cv(np.abs(a).max(), "accel"),
+        "max_acceleration": cv(a.max(), "accel"),
+        "min_acceleration": cv(a.min(), "accel"),
+        "min_pressure_angle_deg": float(np.rad2deg(m.pressure_angle.min())),
+        "max_pressure_angle_deg": float(np.rad2deg(m.pressure_angle.max())),
+        "success": True,
+    }
+    tc = res = pl = None
+    if card is not None:
+        scale = INCH if op["load_units"] == "in" else 1.0
+        force = POUND if op["load_units"] == "in" else 1.0
+        c = DynamometerCard.from_csv(card, position_scale=scale, load_scale=force)
+        tc = torque_curve(unit, theta, c, op["structural_unbalance"])
+        res = optimal_counterbalance(
+            theta, tc.well, phase=op["phase"], free_phase=op["free_phase"], cross_check=True
+        )
+        cb = res.counterbalance if res.success else None
+        if cb is not None:
+            tc = torque_curve(unit, theta, c, op["structural_unbalance"], cb)
+        data["card"] = {
+            "file": str(card),
+            "card_stroke": cv(c.stroke, "length"),
+            "card_to_unit_stroke_ratio": c.stroke / float(unit.stroke),
+            "peak_load": cv(c.load.max(), "force"),
+            "min_load": cv(c.load.min(), "force"),
+            "peak_torque_without_counterbalance": cv(np.abs(tc.well).max(), "torque"),
+            "counterbalance_status": res.status,
+            "optimal_counterbalance_moment": cv(res.counterbalance.moment, "torque"),
+            "counterbalance_phase_deg": float(np.rad2deg(res.counterbalance.phase)),
+            "peak_net_torque": cv(res.peak_torque, "torque"),
+            "scan_peak_net_torque": cv(res.scan_peak_torque, "torque")
+            if res.scan_peak_torque is not None
+            else None,
+            "scan_counterbalance_moment": cv(res.scan_counterbalance.moment, "torque")
+            if res.scan_counterbalance is not None
+            else None,
+        }
+        if op["rating"] is not None and res.success:
+            data["card"]["gearbox_loading_percent"] = 100.0 * res.peak_torque / op["rating"]
+            pl = permissible_load(
+                unit, theta, op["rating"], res.counterbalance, op["structural_unbalance"]
+            )
+        data["success"] = bool(res.success)
+    files = [] if out is None else _write(Path(out), unit, theta, m, tc, pl, U, cv, data)
+    return StudyResult("pump-analyze", _summary(data), data, files, [])
+
+
+def _summary(d) -> str:
+    u = d["units"]
+    lines = [
+        f"{d['designation'] or 'pumping unit'} ({d['unit_class']}, rotation {d['rotation']}, "
+        f"{d['spm']:g} SPM)",
+        f"stroke                 {d['stroke']:.4f} {u['length']}",
+        f"dead centres           bottom {d['bottom_dead_centre_deg']:.3f} deg, "
+        f"top {d['top_dead_centre_deg']:.3f} deg (from 12 o'clock, direction of rotation)",
+        f"upstroke / downstroke  {d['upstroke_span_deg']:.3f} / {d['downstroke_span_deg']:.3f} "
+        "deg of crank",
+        f"torque factor          max {d['max_torque_factor']:.4f}, min "
+        f"{d['min_torque_factor']:.4f} {u['tf']}",
+        f"peak velocity          up {d['peak_upstroke_velocity']:.4f}, down "
+        f"{d['peak_downstroke_velocity']:.4f} {u['speed']}",
+        f"acceleration           max {d['max_acceleration']:.4f}, min "
+        f"{d['min_acceleration']:.4f} {u['accel']}",
+        f"pressure angle         {d['min_pressure_angle_deg']:.2f} .. "
+        f"{d['max_pressure_angle_deg']:.2f} deg",
+    ]
+    c = d.get("card")
+    if c:
+        lines += [
+            f"card                   {c['file']}: stroke {c['card_stroke']:.4f} {u['length']} "
+            f"(scaled by {1 / c['card_to_unit_stroke_ratio']:.4f} to the unit), loads "
+            f"{c['min_load']:.1f} .. {c['peak_load']:.1f} {u['force']}",
+            f"peak torque, no CB     {c['peak_torque_without_counterbalance']:.1f} {u['torque']}",
+            f"optimal counterbalance {c['optimal_counterbalance_moment']:.1f} {u['torque']} at "
+            f"phase {c['counterbalance_phase_deg']:.2f} deg ({c['counterbalance_status']}; "
+            f"LP, scan gives {c['scan_peak_net_torque']:.1f})",
+            f"peak net torque        {c['peak_net_torque']:.1f} {u['torque']}",
+        ]
+        if "gearbox_loading_percent" in c:
+            lines.append(f"gearbox loading        {c['gearbox_loading_percent']:.1f} % of rating")
+    return "\n".join(lines)
+
+
+def _write(out, unit, theta, m, tc, pl, U, cv, data):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .jsonutil import dumps
+
+    out.mkdir(parents=True, exist_ok=True)
+    files = []
+    x = np.rad2deg(theta)
+    fig, axes = plt.subplots(4, 1, sharex=True, figsize=(7, 9), constrained_layout=True)
+    series = (
+        (m.polished_rod.position, "length", "position"),
+        (m.polished_rod.velocity, "speed", "velocity"),
+        (m.polished_rod.acceleration, "accel", "acceleration"),
+        (m.torque_factor, "tf", "torque factor"),
+    )
+    for ax, (y, kind, label) in zip(axes, series):
+        ax.plot(x, np.asarray(y) * U[kind][1])
+        ax.set_ylabel(f"{label}, {U[kind][0]}")
+        ax.grid(True, alpha=0.4)
+    axes[-1].set_xlabel("crank angle from 12 o'clock, deg")
+    axes[0].set_title("Polished rod (exact kinematics)")
+    files.append(out / "polished_rod.png")
+    fig.savefig(files[-1], dpi=110)
+    plt.close(fig)
+
+    rows = torque_factor_table(unit, 15.0)
+    with open(out / "torque_factor_table.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        header = ["crank_angle_deg", f"torque_factor_{U['tf'][0]}", f"position_{U['length'][0]}"]
+        w.writerow([*header, "position_fraction", "beam_angle_deg"])
+        for r in rows:
+            w.writerow([r["crank_angle_deg"], cv(r["torque_factor"], "tf"),
+                        cv(r["position"], "length"), r["position_fraction"],
+                        r["beam_angle_deg"]])  # fmt: skip
+    files.append(out / "torque_factor_table.csv")
+
+    if tc is not None:
+        fig = tc.plot(scale=U["torque"][1], unit=U["torque"][0])
+        files.append(out / "torque.png")
+        fig.savefig(files[-1], dpi=110)
+        plt.close(fig)
+        with open(out / "torque_curve.csv", "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(["crank_angle_deg", f"position_{U['length'][0]}",
+                        f"torque_factor_{U['tf'][0]}", f"load_{U['force'][0]}",
+                        f"well_torque_{U['torque'][0]}", f"counterbalance_{U['torque'][0]}",
+                        f"net_torque_{U['torque'][0]}"])  # fmt: skip
+            for i in range(theta.size):
+                row = [x[i], cv(tc.position[i], "length"), cv(tc.torque_factor[i], "tf")]
+                row += [cv(tc.load[i], "force"), cv(tc.well[i], "torque")]
+                row += [cv(tc.counterbalance[i], "torque"), cv(tc.net[i], "torque")]
+                w.writerow(row)
+        files.append(out / "torque_curve.csv")
+    if pl is not None:
+        fig, ax = plt.subplots(figsize=(7, 4), constrained_layout=True)
+        ok = np.isfinite(pl["upper"])
+        px = pl["position"] * U["length"][1]
+        up = pl["torque_factor"] > 0
+        ax.plot(px[ok & up], pl["upper"][ok & up] * U["force"][1], ".", ms=2, label="upstroke max")
+        ax.plot(px[ok & ~up], pl["lower"][ok & ~up] * U["force"][1], ".", ms=2,
+                label="downstroke min")  # fmt: skip
+        if tc is not None:
+            ax.plot(tc.position * U["length"][1], tc.load * U["force"][1], "k-", lw=1, label="card")
+        top = np.nanmax(np.where(ok, tc.load if tc is not None else 0, np.nan)) * U["force"][1]
+        ax.set_ylim(0, 2.0 * top if np.isfinite(top) and top > 0 else None)
+        ax.set_xlabel(f"polished-rod position, {U['length'][0]}")
+        ax.set_ylabel(f"load, {U['force'][0]}")
+        ax.set_title("Permissible load diagram (gearbox rating, counterbalance as set)")
+        ax.grid(True, alpha=0.4)
+        ax.legend()
+        files.append(out / "permissible_load.png")
+        fig.savefig(files[-1], dpi=110)
+        plt.close(fig)
+    (out / "pump_analysis.json").write_text(dumps(data) + "\n")
+    files.append(out / "pump_analysis.json")
+    return files
