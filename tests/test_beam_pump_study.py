@@ -57,6 +57,9 @@ def test_synthesis_beats_every_feasible_variant(result):
     syn = res.data["synthesis"]
     assert syn["success"] and syn["status"] == "optimal"
     assert syn["upstroke_span_deg"] >= 180.0
+    # the global method (differential evolution, then a certified polish) finds the same optimum
+    de = syn["de_cross_check"]
+    assert de["success"] and de["value"] == pytest.approx(syn["value"], rel=1e-6)
     for t in res.data["variants"].values():
         if t["max_pressure_angle_deg"] <= 30.0 and t["peak_torque_factor"] <= 1.5:
             assert syn["value"] <= t["peak_acceleration"] * (1 + 1e-9)

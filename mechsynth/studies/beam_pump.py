@@ -49,6 +49,13 @@ SPEED_SPM = 6.0
 CARD_UP, CARD_DOWN = 80e3, 45e3  # N, idealized rectangular card (assumed)
 PRESSURE_LIMIT_DEG = 30.0
 TF_LIMIT = 1.5  # m/rad
+#: the design box of the synthesis (m): the centre bearing behind the crankshaft, as the Mark II
+SYNTHESIS_BOUNDS = {
+    "crank": (0.5, 1.6),
+    "pitman": (3.0, 6.5),
+    "pivot_x": (-7.5, -2.5),
+    "pivot_y": (3.0, 5.0),
+}
 
 
 def fit_base_geometry():
@@ -157,12 +164,7 @@ def synthesis_problem(base, pressure_limit=None, tf_limit=TF_LIMIT):
 
     prob = Problem(
         BeamPumpingUnit,
-        variables={
-            "crank": (0.5, 1.6),
-            "pitman": (3.0, 6.5),
-            "pivot_x": (-7.5, -2.5),
-            "pivot_y": (3.0, 5.0),
-        },
+        variables=dict(SYNTHESIS_BOUNDS),
         fixed={
             "rear_arm": base["k"],
             "front_arm": base["k1"],
@@ -199,6 +201,23 @@ def pareto(base, limits_deg, starts=3):
             )
         rows.append(row)
     return rows
+
+
+def _active_bounds(res, rtol=1e-6):
+    """Names of the variables that ended on a bound of their box."""
+    if res.design is None:
+        return []
+    out = []
+    for name, (lo, hi) in synthesis_problem_bounds().items():
+        v = float(getattr(res.design, name))
+        tol = rtol * (hi - lo)
+        if abs(v - lo) <= tol or abs(v - hi) <= tol:
+            out.append(name)
+    return out
+
+
+def synthesis_problem_bounds():
+    return dict(SYNTHESIS_BOUNDS)
 
 
 def _nondominated(rows):
@@ -303,6 +322,8 @@ def run(out=None, n_angles=721, pareto_points=6, starts=3):
 
     # synthesis and Pareto front (epsilon-constraint loop; no shared Pareto helper yet)
     best = synthesis_problem(base).solve(starts=starts, progress=False)
+    # global cross-check: differential evolution over the same box, polished and certified
+    de = synthesis_problem(base).solve(method="de", seed=1, progress=False)
     best_design = None
     if best.design is not None:
         d = best.design
@@ -334,6 +355,8 @@ def run(out=None, n_angles=721, pareto_points=6, starts=3):
             "upstroke_span_deg": None
             if best_design is None
             else float(np.rad2deg(best_design.upstroke_span)),
+            "active_bounds": _active_bounds(best),
+            "de_cross_check": {"status": de.status, "success": bool(de.success), "value": de.value},
         },
         "pareto": {"method": "epsilon-constraint on the pressure angle", "points": rows},
         "pareto_front": front,
@@ -344,6 +367,12 @@ def run(out=None, n_angles=721, pareto_points=6, starts=3):
     if out is not None:
         files = _write(Path(out), theta, w, units, card, table, rows, front, data)
     summary = _summary(base, fit, table, printed_table, findings, best, best_design, rows)
+    syn = data["synthesis"]
+    summary += (
+        f"\nsynthesis: variables on a bound of the box: {', '.join(syn['active_bounds']) or 'none'}"
+        f"; differential evolution cross-check: {de.status}, "
+        f"{de.value:.6f} m/s^2 (IPOPT {best.value:.6f})"
+    )
     return StudyResult("beam-pump", summary, data, files, errata)
 
 
