@@ -10,3 +10,7 @@ from .convex import AffineMap, ConvexResult, affine_map, minimax_affine, minimax
 
 __all__ += ["Chart", "sweep", "AffineMap", "ConvexResult", "affine_map", "minimax_affine"]
 __all__ += ["minimax_cycle"]
+
+from .pareto import ParetoFront, pareto_front  # noqa: E402
+
+__all__ += ["ParetoFront", "pareto_front"]

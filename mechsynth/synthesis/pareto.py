@@ -1,0 +1,343 @@
+"""Pareto fronts of two competing measures by the epsilon-constraint method.
+
+For a :class:`~mechsynth.synthesis.Problem` (variables, fixed parameters, constraints) and two
+measures ``first`` and ``second``:
+
+1. the *anchors*: ``first`` optimized alone (its value of ``second`` is the worst end of the
+   front), and ``second`` optimized alone, followed by ``first`` optimized subject to ``second``
+   at that optimum (lexicographic, so the anchor is not weakly dominated);
+2. for ``eps`` between the two anchors' values of ``second``: optimize ``first`` subject to
+   ``second <= eps`` (``>= eps`` when ``second`` is maximized), each solve started from the
+   previous point's design;
+3. points that are dominated by another point are flagged (non-dominated filtering).
+
+Every point is a certified :class:`~mechsynth.synthesis.Result` of the problem's solver, so the
+values on the front are true peaks over the continuous crank angle.
+
+>>> import mechsynth as ms
+>>> from mechsynth import objectives as ob
+>>> prob = ms.Problem(ms.SliderCrank, {"crank": (0.01, 0.2), "rod": (0.05, 0.2),
+...                                    "offset": (-0.1, 0.1)}, speed=ms.rpm(600))
+>>> _ = prob.subject_to(ob.stroke("slider") == 0.1)
+>>> front = pareto_front(prob, ob.peak_acceleration("slider"), ob.max_pressure_angle(),
+...                      n=7)                                        # doctest: +SKIP
+>>> front.first, front.second, front.plot()                          # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import csv
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..objectives.base import Measure
+
+__all__ = ["ParetoFront", "pareto_front", "true_value"]
+
+
+def true_value(problem, measure: Measure, design, n_dense: int = 2048) -> float:
+    """Value of ``measure`` at ``design`` with every peak taken over the continuous crank angle
+    (dense evaluation + 1-D search, as the solvers certify), at the problem's speed."""
+    from ..units import cycle
+    from .certify import true_peak
+    from .transcription import evaluate_form, flatten
+
+    form = flatten(measure, problem.mechanism)
+    peaks = {}
+    for _, atom in form.terms:
+        if atom.kind == "peak":
+            peaks[atom] = true_peak(atom, design, problem.speed, n_dense)[0]
+    motion = design.motion(cycle(n_dense), speed=problem.speed)
+    return float(evaluate_form(form, design, motion, peaks))
+
+
+@dataclass(frozen=True)
+class ParetoFront:
+    """The points of an epsilon-constraint sweep.
+
+    Attributes
+    ----------
+    first_name, second_name : the two measures; ``senses`` ("min"/"max" each); ``units``.
+    eps : the bound on ``second`` of each point (the anchors included: first and last).
+    first, second : masked arrays of the two measures at each point's design (true peaks),
+        masked where the solve failed.
+    success : per point, the solve ended "optimal".
+    nondominated : per point, successful and not dominated by another successful point.
+    results : per point, the :class:`~mechsynth.synthesis.Result`.
+    designs : per point, the design (mechanism instance) or None.
+    variables : names of the decision variables.
+    solve_time : wall-clock seconds of the whole sweep.
+    """
+
+    first_name: str
+    second_name: str
+    senses: tuple[str, str]
+    units: tuple[str, str]
+    eps: np.ndarray
+    first: np.ma.MaskedArray
+    second: np.ma.MaskedArray
+    success: np.ndarray
+    nondominated: np.ndarray
+    results: tuple
+    designs: tuple
+    variables: tuple[str, ...]
+    solve_time: float
+
+    @property
+    def n_points(self) -> int:
+        return int(self.eps.size)
+
+    def front(self):
+        """``(first, second)`` of the non-dominated points, ordered by ``second``."""
+        idx = np.flatnonzero(self.nondominated)
+        idx = idx[np.argsort(self.second.data[idx])]
+        return self.first.data[idx], self.second.data[idx]
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dict (``mechsynth.jsonutil.dumps``)."""
+        pts = []
+        for i, r in enumerate(self.results):
+            pts.append(
+                dict(
+                    eps=float(self.eps[i]),
+                    status=r.status,
+                    success=bool(self.success[i]),
+                    nondominated=bool(self.nondominated[i]),
+                    first=None if self.first.mask[i] else float(self.first[i]),
+                    second=None if self.second.mask[i] else float(self.second[i]),
+                    design=None if r.design is None else r.design.params(),
+                )
+            )
+        return dict(
+            first=self.first_name,
+            second=self.second_name,
+            senses=list(self.senses),
+            units=list(self.units),
+            points=pts,
+            solve_time=self.solve_time,
+        )
+
+    def to_csv(self, path) -> Path:
+        """One row per point: eps, status, success, nondominated, both measures (SI units,
+        empty where the solve failed) and the design variables."""
+        path = Path(path)
+        u1, u2 = self.units
+        head = [
+            "eps",
+            "status",
+            "success",
+            "nondominated",
+            f"{self.first_name} [{u1}]" if u1 else self.first_name,
+            f"{self.second_name} [{u2}]" if u2 else self.second_name,
+            *self.variables,
+        ]
+        with path.open("w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(head)
+            for i, r in enumerate(self.results):
+                ok = bool(self.success[i])
+                row = [f"{self.eps[i]:.10g}", r.status, int(ok), int(self.nondominated[i])]
+                row += [
+                    f"{self.first[i]:.10g}" if ok else "",
+                    f"{self.second[i]:.10g}" if ok else "",
+                ]
+                row += [f"{r.variables[k]:.10g}" if ok else "" for k in self.variables]
+                w.writerow(row)
+        return path
+
+    def plot(self, ax=None, title: str | None = None):
+        """The front: ``second`` on x, ``first`` on y (radians shown in degrees); non-dominated
+        points joined, dominated points hollow, the two anchors marked. Returns the figure."""
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        own = ax is None
+        fig = plt.figure(figsize=(7, 5), layout="constrained") if own else ax.figure
+        ax = fig.add_subplot() if own else ax
+
+        def show(values, unit):
+            if unit == "rad":
+                return np.rad2deg(values), "deg"
+            return values, unit
+
+        y, uy = show(self.first.data, self.units[0])
+        x, ux = show(self.second.data, self.units[1])
+        nd = self.nondominated
+        order = np.flatnonzero(nd)[np.argsort(x[nd])]
+        ax.plot(x[order], y[order], "-o", color="C0", ms=5, label="non-dominated designs")
+        dom = self.success & ~nd
+        if dom.any():
+            ax.plot(x[dom], y[dom], "o", mfc="none", color="0.5", label="dominated")
+        ends = [i for i in (0, self.n_points - 1) if self.success[i]]
+        if ends:
+            ax.plot(x[ends], y[ends], "s", ms=9, mfc="none", color="C3", label="anchors")
+        if (~self.success).any():
+            ax.plot([], [], "x", color="C3", label=f"{int((~self.success).sum())} failed solves")
+        ax.set_xlabel(f"{self.second_name}, {ux}" if ux else self.second_name)
+        ax.set_ylabel(f"{self.first_name}, {uy}" if uy else self.first_name)
+        ax.grid(True, alpha=0.4)
+        ax.legend(fontsize=8)
+        ax.set_title(
+            title
+            or f"Pareto front ({self.senses[0]} {self.first_name}, "
+            f"{self.senses[1]} {self.second_name})",
+            fontsize=10,
+        )
+        return fig
+
+
+def _dominance(f1, f2, ok, senses, rtol=1e-7):
+    """Non-dominated mask among ``ok`` points (both measures made 'smaller is better')."""
+    a = np.where(ok, f1 if senses[0] == "min" else -f1, np.inf)
+    b = np.where(ok, f2 if senses[1] == "min" else -f2, np.inf)
+    ta = rtol * max(float(np.ptp(a[ok])) if ok.any() else 0.0, 1e-300)
+    tb = rtol * max(float(np.ptp(b[ok])) if ok.any() else 0.0, 1e-300)
+    nd = ok.copy()
+    for i in np.flatnonzero(ok):
+        better_eq = (a <= a[i] + ta) & (b <= b[i] + tb) & ok
+        strictly = (a < a[i] - ta) | (b < b[i] - tb)
+        if np.any(better_eq & strictly):
+            nd[i] = False
+    return nd
+
+
+def pareto_front(
+    problem,
+    first: Measure,
+    second: Measure,
+    n: int = 9,
+    *,
+    senses: tuple[str, str] = ("min", "min"),
+    eps=None,
+    method: str = "ipopt",
+    starts: int = 4,
+    anchor_starts: int = 8,
+    seed: int | None = 0,
+    progress: bool | None = None,
+    solve_options: dict | None = None,
+    lexicographic_rtol: float = 1e-7,
+) -> ParetoFront:
+    """Pareto front of ``first`` against ``second`` by the epsilon-constraint method.
+
+    Parameters
+    ----------
+    problem : a :class:`~mechsynth.synthesis.Problem`; its variables, fixed parameters,
+        speed and constraints define the feasible set (its objective is not used).
+    first, second : the two measures (e.g. ``peak_acceleration("slider")`` and
+        ``max_pressure_angle()``).
+    n : points on the front, anchors included (>= 2).
+    senses : ``("min", "min")`` by default; ``"max"`` for a measure to maximize.
+    eps : optional bounds on ``second`` for the points between the anchors (SI units; e.g.
+        pressure-angle limits in rad) instead of ``n - 2`` values evenly between the anchors'
+        values of ``second``; ``n`` is then ignored.
+    method, starts, seed, solve_options : passed to :meth:`Problem.solve` (``solve_options``
+        as further keyword arguments). Points after the first start from the previous design
+        (``x0``) plus ``starts - 1`` Sobol points.
+    anchor_starts : multi-start count of the two single-objective anchors (they fix the
+        extent of the front, so they get the wider search).
+    progress : a tqdm bar over the points (None: only on a terminal).
+    lexicographic_rtol : relative slack of ``second`` at its optimum in the second anchor.
+
+    Returns
+    -------
+    ParetoFront
+        Failed solves are recorded (``success``), never raised; when an anchor fails, the sweep
+        stops there and the front holds what was solved.
+    """
+    from tqdm.auto import tqdm
+
+    t0 = time.perf_counter()
+    if eps is not None:
+        eps = np.atleast_1d(np.asarray(eps, dtype=float))
+        if eps.ndim != 1 or not np.all(np.isfinite(eps)):
+            raise ValueError("eps must be finite bounds on the second measure")
+        n = eps.size + 2
+    if n < 2:
+        raise ValueError(f"n must be at least 2 (the two anchors), got {n}")
+    for s in senses:
+        if s not in ("min", "max"):
+            raise ValueError(f"senses must be 'min' or 'max', got {senses!r}")
+    for m in (first, second):
+        if not isinstance(m, Measure):
+            raise TypeError(f"expected a Measure, got {type(m).__name__}")
+    opts = dict(method=method, seed=seed, progress=False, **(solve_options or {}))
+
+    def solve(objective, sense, bound=None, x0=None, n_starts=starts):
+        p = problem.copy()
+        (p.minimize if sense == "min" else p.maximize)(objective)
+        if bound is not None:
+            p.subject_to(second <= bound if senses[1] == "min" else second >= bound)
+        return p, p.solve(x0=x0, starts=n_starts, **opts)
+
+    def measured(p, res):
+        """(first, second) at a result's design, true peaks."""
+        if res.design is None:
+            return np.nan, np.nan
+        return true_value(p, first, res.design), true_value(p, second, res.design)
+
+    results, eps_list, vals = [], [], []  # per point, anchors first and last
+    bar = tqdm(total=n, disable=None if progress is None else not progress, desc="pareto")
+    # anchor 1: first alone
+    p1, r1 = solve(first, senses[0], n_starts=anchor_starts)
+    results.append(r1)
+    vals.append(measured(p1, r1))
+    eps_list.append(vals[-1][1])
+    bar.update()
+    if r1.success:
+        # anchor 2: second alone, then first at that optimum
+        _, r2s = solve(second, senses[1], n_starts=anchor_starts)
+        if r2s.success:
+            s_best = float(r2s.value)
+            slack = lexicographic_rtol * max(abs(s_best), 1e-12)
+            bound = s_best + slack if senses[1] == "min" else s_best - slack
+            p2, r2 = solve(first, senses[0], bound, x0=r2s.variables)
+            s_worst = eps_list[0]
+            if eps is None:
+                inner = np.linspace(s_worst, s_best, n)[1:-1]
+            else:  # from the first anchor's side towards the second's
+                inner = np.sort(eps)[:: -1 if senses[1] == "min" else 1]
+            x0 = r1.variables
+            for e in inner:
+                pe, re = solve(first, senses[0], float(e), x0=x0)
+                results.append(re)
+                vals.append(measured(pe, re))
+                eps_list.append(float(e))
+                if re.success:
+                    x0 = re.variables
+                bar.update()
+            results.append(r2)
+            vals.append(measured(p2, r2))
+            eps_list.append(bound)
+        else:
+            results.append(r2s)
+            vals.append((np.nan, np.nan))
+            eps_list.append(np.nan)
+    bar.update(n - bar.n)
+    bar.close()
+    success = np.array([r.success for r in results], dtype=bool)
+    f1 = np.array([v[0] for v in vals], dtype=float)
+    f2 = np.array([v[1] for v in vals], dtype=float)
+    success &= np.isfinite(f1) & np.isfinite(f2)
+    nd = _dominance(np.where(success, f1, 0.0), np.where(success, f2, 0.0), success, senses)
+    eps = np.array(eps_list, dtype=float)
+    return ParetoFront(
+        first_name=first.name,
+        second_name=second.name,
+        senses=tuple(senses),
+        units=(getattr(first, "unit", ""), getattr(second, "unit", "")),
+        eps=np.where(np.isfinite(eps), eps, 0.0),
+        first=np.ma.MaskedArray(np.where(success, f1, 0.0), mask=~success),
+        second=np.ma.MaskedArray(np.where(success, f2, 0.0), mask=~success),
+        success=success,
+        nondominated=nd,
+        results=tuple(results),
+        designs=tuple(r.design for r in results),
+        variables=tuple(problem.names),
+        solve_time=time.perf_counter() - t0,
+    )
