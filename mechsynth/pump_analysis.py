@@ -224,6 +224,10 @@ def analyze(unit_file, card=None, out=None, units="oilfield", n=720) -> StudyRes
     return StudyResult("pump-analyze", _summary(data), data, files, [])
 
 
+def _num(v) -> str:
+    return "n/a" if v is None else f"{v:.1f}"
+
+
 def _summary(d) -> str:
     u = d["units"]
     lines = [
@@ -251,8 +255,8 @@ def _summary(d) -> str:
             f"{c['min_load']:.1f} .. {c['peak_load']:.1f} {u['force']}",
             f"peak torque, no CB     {c['peak_torque_without_counterbalance']:.1f} {u['torque']}",
             f"optimal counterbalance {c['optimal_counterbalance_moment']:.1f} {u['torque']} at "
-            f"phase {c['counterbalance_phase_deg']:.2f} deg ({c['counterbalance_status']}; "
-            f"LP, scan gives {c['scan_peak_net_torque']:.1f})",
+            f"phase {c['counterbalance_phase_deg']:.2f} deg (LP {c['counterbalance_status']}; "
+            f"scan cross-check: peak {_num(c['scan_peak_net_torque'])})",
             f"peak net torque        {c['peak_net_torque']:.1f} {u['torque']}",
         ]
         if "gearbox_loading_percent" in c:
