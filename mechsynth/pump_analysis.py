@@ -19,6 +19,9 @@ Unit file (TOML; top-level keys)::
     counterbalance_phase = 0.0         # deg, optional: the fixed phase of the counterweights
     free_phase = false                 # optimize the phase too
     gearbox_rating = 320000            # in-lb (N m), optional: loading and permissible load
+    beam_inertia_kgm2 = 0.0            # optional, SI whatever ``units``: beam, horsehead and
+    crank_inertia_kgm2 = 0.0           #   equalizer about the centre bearing; cranks and
+    speed_fluctuation = 0.0            #   counterweights about the crankshaft; (max-min)/mean
 
 A dynamometer card (``--card card.csv``) has ``position, load`` rows in the unit file's units
 (in and lb, or m and N). Everything is computed in SI; ``--units oilfield`` prints in, lb, in-lb
@@ -41,7 +44,7 @@ from .dynamics.pump_torque import (
     torque_curve,
     torque_factor_table,
 )
-from .kinematics.pumping_unit import BeamPumpingUnit
+from .kinematics.pumping_unit import BeamPumpingUnit, crank_speed
 from .studies import StudyResult
 from .units import spm as spm_to_rad_s
 
@@ -52,6 +55,7 @@ POUND = 4.4482216152605
 UNIT_KEYS = {
     "designation", "unit_class", "rotation", "units", "A", "C", "I", "P", "R", "K", "H", "G",
     "spm", "structural_unbalance", "counterbalance_phase", "free_phase", "gearbox_rating",
+    "beam_inertia_kgm2", "crank_inertia_kgm2", "speed_fluctuation",
 }  # fmt: skip
 
 #: output system -> {quantity: (unit label, factor from SI)}
@@ -142,7 +146,16 @@ def load_unit(source) -> tuple[BeamPumpingUnit, dict[str, Any]]:
         "free_phase": free,
         "rating": None if rating is None else rating * torque,
         "load_units": units,
+        "beam_inertia": _nonnegative(where, "beam_inertia_kgm2", num("beam_inertia_kgm2", 0.0)),
+        "crank_inertia": _nonnegative(where, "crank_inertia_kgm2", num("crank_inertia_kgm2", 0.0)),
+        "fluctuation": num("speed_fluctuation", 0.0),
     }
+
+
+def _nonnegative(where, key, value):
+    if value < 0:
+        raise ValueError(f"{where}{key} must be >= 0, got {value}")
+    return value
 
 
 def analyze(unit_file, card=None, out=None, units="oilfield", n=720) -> StudyResult:
@@ -159,7 +172,8 @@ def analyze(unit_file, card=None, out=None, units="oilfield", n=720) -> StudyRes
         return float(value) * U[kind][1]
 
     theta = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
-    m = unit.motion(theta, speed=op["speed"])
+    omega, eps = crank_speed(theta, op["speed"], op["fluctuation"])
+    m = unit.motion(theta, speed=omega, epsilon=eps)
     v, a, tf = m.polished_rod.velocity, m.polished_rod.acceleration, m.torque_factor
     bottom, top = unit.dead_centres
     data: dict[str, Any] = {
@@ -189,20 +203,31 @@ def analyze(unit_file, card=None, out=None, units="oilfield", n=720) -> StudyRes
         scale = INCH if op["load_units"] == "in" else 1.0
         force = POUND if op["load_units"] == "in" else 1.0
         c = DynamometerCard.from_csv(card, position_scale=scale, load_scale=force)
-        tc = torque_curve(unit, theta, c, op["structural_unbalance"])
+        dyn = dict(
+            speed=omega,
+            epsilon=eps,
+            beam_inertia=op["beam_inertia"],
+            crank_inertia=op["crank_inertia"],
+        )
+        tc = torque_curve(unit, theta, c, op["structural_unbalance"], **dyn)
         res = optimal_counterbalance(
-            theta, tc.well, phase=op["phase"], free_phase=op["free_phase"], cross_check=True
+            theta,
+            tc.well + tc.inertia,
+            phase=op["phase"],
+            free_phase=op["free_phase"],
+            cross_check=True,
         )
         cb = res.counterbalance if res.success else None
         if cb is not None:
-            tc = torque_curve(unit, theta, c, op["structural_unbalance"], cb)
+            tc = torque_curve(unit, theta, c, op["structural_unbalance"], cb, **dyn)
         data["card"] = {
             "file": str(card),
             "card_stroke": cv(c.stroke, "length"),
             "card_to_unit_stroke_ratio": c.stroke / float(unit.stroke),
             "peak_load": cv(c.load.max(), "force"),
             "min_load": cv(c.load.min(), "force"),
-            "peak_torque_without_counterbalance": cv(np.abs(tc.well).max(), "torque"),
+            "peak_torque_without_counterbalance": cv(np.abs(tc.well + tc.inertia).max(), "torque"),
+            "peak_inertia_torque": cv(np.abs(tc.inertia).max(), "torque"),
             "counterbalance_status": res.status,
             "optimal_counterbalance_moment": cv(res.counterbalance.moment, "torque"),
             "counterbalance_phase_deg": float(np.rad2deg(res.counterbalance.phase)),
@@ -258,6 +283,7 @@ def _summary(d) -> str:
             f"phase {c['counterbalance_phase_deg']:.2f} deg (LP {c['counterbalance_status']}; "
             f"scan cross-check: peak {_num(c['scan_peak_net_torque'])})",
             f"peak net torque        {c['peak_net_torque']:.1f} {u['torque']}",
+            f"peak inertia torque    {c['peak_inertia_torque']:.1f} {u['torque']} (included)",
         ]
         if "gearbox_loading_percent" in c:
             lines.append(f"gearbox loading        {c['gearbox_loading_percent']:.1f} % of rating")

@@ -108,3 +108,19 @@ def test_optimize_example_beats_the_axial_unit(capsys, tmp_path):
     m = axial.motion(ms.cycle(2048), speed=ms.spm(6.0))
     assert np.rad2deg(m.pressure_angle.max()) <= 30.0
     assert d["value"] <= np.abs(m.polished_rod.acceleration).max()
+
+
+def test_inertia_and_speed_fluctuation(capsys, tmp_path):
+    p = tmp_path / "u.toml"
+    p.write_text(
+        UNIT.read_text()
+        + "beam_inertia_kgm2 = 60000.0\ncrank_inertia_kgm2 = 15000.0\nspeed_fluctuation = 0.2\n"
+    )
+    rc, out = run(capsys, "pump", "analyze", str(p), "--card", str(CARD), "--json")
+    assert rc == 0
+    c = json.loads(out.out)["card"]
+    assert c["peak_inertia_torque"] > 0
+    assert c["scan_peak_net_torque"] == pytest.approx(c["peak_net_torque"], rel=1e-6)
+    p.write_text(UNIT.read_text() + "speed_fluctuation = 3.0\n")
+    rc, out = run(capsys, "pump", "analyze", str(p))
+    assert rc == 1 and "fluctuation" in out.err
