@@ -302,3 +302,21 @@ def test_from_api_with_k_equals_heights():
     k = float(np.hypot(C320["I"], C320["H"] - C320["G"]))
     v = BeamPumpingUnit.from_api(**{n: C320[n] for n in "ACIPR"}, K=k, units="in")
     assert float(v.stroke) == pytest.approx(float(u.stroke), rel=1e-12)
+
+
+def test_draw_puts_links_at_their_lengths():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    u = m912(56.56, rotation="ccw")
+    ax = u.draw(1.0)
+    crank_line, pitman_line, beam_line = ax.lines[:3]
+    for line, length in ((crank_line, u.crank), (pitman_line, u.pitman)):
+        x, y = line.get_data()
+        assert np.hypot(x[1] - x[0], y[1] - y[0]) == pytest.approx(length, rel=1e-12)
+    x, y = beam_line.get_data()  # B -> O2 -> horsehead
+    assert np.hypot(x[1] - x[0], y[1] - y[0]) == pytest.approx(u.rear_arm, rel=1e-12)
+    assert np.hypot(x[2] - x[1], y[2] - y[1]) == pytest.approx(u.front_arm, rel=1e-12)
+    plt.close(ax.figure)

@@ -502,6 +502,33 @@ class BeamPumpingUnit(Mechanism):
         psi_bottom, _ = self.beam_limits
         return self.front_arm * (self.jets(theta)[4].value - psi_bottom)
 
+    def draw(self, theta=0.0, ax=None, arc_deg=60.0, color="C0", alpha=1.0):
+        """Draw the linkage at crank angle ``theta`` (rad): crank, pitman, beam with its
+        horsehead face (``arc_deg`` wide) and the bridle. Returns the matplotlib axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(7, 5), constrained_layout=True)
+        m = self.motion(np.atleast_1d(np.asarray(theta, dtype=float)))
+        p = {k: (float(v.x[0]), float(v.y[0])) for k, v in m.points.items()}
+        psi = float(m.beam.angle[0])
+        ox, oy = p["O2"]
+        head = (ox + self.front_arm * np.cos(psi), oy + self.front_arm * np.sin(psi))
+        kw = dict(color=color, alpha=alpha, lw=2)
+        ax.plot(*zip(p["O1"], p["A"]), **kw)
+        ax.plot(*zip(p["A"], p["B"]), **kw)
+        ax.plot(*zip(p["B"], (ox, oy), head), **kw)
+        arc = psi + np.deg2rad(np.linspace(-arc_deg / 2, arc_deg / 2, 30))
+        ax.plot(ox + self.front_arm * np.cos(arc), oy + self.front_arm * np.sin(arc), **kw)
+        # the bridle leaves the horsehead face where it is vertical: level with the centre bearing
+        rod_x = ox + self.front_arm
+        ax.plot([rod_x, rod_x], [oy, -0.5], color=color, alpha=alpha, lw=1)
+        ax.plot(*zip(p["O1"], (ox, oy)), "k^", ms=9)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x toward the well, m")
+        ax.set_ylabel("y, m")
+        return ax
+
     def __repr__(self) -> str:
         if self.is_symbolic or np.ndim(self.crank):
             return f"BeamPumpingUnit({self.unit_class}, {self.rotation}, symbolic/batch)"

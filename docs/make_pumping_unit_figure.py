@@ -1,0 +1,54 @@
+"""Draw docs/figures/pumping_units.png: a conventional unit (C-320D-256-120) and a Mark II
+(M-912D-365-168) at their dead centres and at 90 deg, with the torque factor against the crank
+angle. Run from the repository root: python docs/make_pumping_unit_figure.py"""
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+import mechsynth as ms  # noqa: E402
+
+OUT = Path(__file__).resolve().parent / "figures" / "pumping_units.png"
+
+
+def main(out=OUT):
+    units = {
+        "C-320D-256-120, conventional, cw": ms.BeamPumpingUnit.from_api(
+            A=155.0, C=111.06, I=111.02, P=132.01, R=42.01, H=231.97, G=95.98, units="in"
+        ),
+        "M-912D-365-168, Mark II, ccw": ms.BeamPumpingUnit.from_api(
+            A=334.0, C=270.0, I=202.56, P=193.5, R=63.56, H=295.13, G=112.13,
+            unit_class="mark-ii", rotation="ccw", units="in",
+        ),
+    }  # fmt: skip
+    fig, axes = plt.subplots(2, 2, figsize=(11, 8), constrained_layout=True)
+    theta = ms.cycle(720)
+    for col, (name, u) in enumerate(units.items()):
+        ax = axes[0, col]
+        bottom, top = (float(t) for t in u.dead_centres)
+        for t, c, lab in ((bottom, "C0", "bottom"), (top, "C3", "top"), (np.pi / 2, "0.6", "90")):
+            u.draw(t, ax=ax, color=c, alpha=0.9)
+            ax.plot([], [], color=c, label=f"{lab}: {np.rad2deg(t):.1f} deg")
+        ax.set_title(name)
+        ax.legend(fontsize=8, loc="lower left")
+        ax = axes[1, col]
+        ax.plot(np.rad2deg(theta), ms.to_inch(u.torque_factor(theta)))
+        ax.axhline(0, color="k", lw=0.6)
+        ax.axvline(np.rad2deg(bottom), color="C0", ls="--")
+        ax.axvline(np.rad2deg(top), color="C3", ls="--")
+        ax.set_xlabel("crank angle from 12 o'clock in the direction of rotation, deg")
+        ax.set_ylabel("torque factor, in")
+        ax.set_title(f"stroke {ms.to_inch(u.stroke):.2f} in, upstroke "
+                     f"{np.rad2deg(u.upstroke_span):.1f} deg")  # fmt: skip
+        ax.grid(True, alpha=0.4)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out, dpi=100)
+    return out
+
+
+if __name__ == "__main__":
+    print(main())
