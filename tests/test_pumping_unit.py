@@ -320,3 +320,21 @@ def test_draw_puts_links_at_their_lengths():
     assert np.hypot(x[1] - x[0], y[1] - y[0]) == pytest.approx(u.rear_arm, rel=1e-12)
     assert np.hypot(x[2] - x[1], y[2] - y[1]) == pytest.approx(u.front_arm, rel=1e-12)
     plt.close(ax.figure)
+
+
+def test_generic_measures_on_a_unit():
+    from mechsynth import objectives as ob
+
+    u = m912(56.56, rotation="ccw")
+    cls = BeamPumpingUnit
+    up, down = (float(x) for x in u.crank_spans)
+    assert float(ob.time_ratio().bind(cls).fn(u)) == pytest.approx(max(up, down) / min(up, down))
+    assert float(ob.grashof_margin().fn(u)) == pytest.approx(float(u.four_bar.grashof_margin))
+    assert float(ob.stroke("slider").bind(cls).fn(u)) == pytest.approx(float(u.stroke))
+    m = u.motion(THETA)
+    assert float(ob.peak_torque_factor().from_motion(u, m)) == pytest.approx(
+        np.abs(m.torque_factor).max()
+    )
+    with pytest.raises(ValueError, match="torque factor"):
+        fb = ms.FourBar(1.0, 4.3, 3.0, 5.2)
+        ob.peak_torque_factor().from_motion(fb, fb.motion(THETA))

@@ -14,6 +14,7 @@ from .kinematic import (
     swing_angle,
     time_ratio,
 )
+from .pumping import PUMPING_MEASURES, peak_torque_factor
 
 __all__ = ["Measure", "CycleMeasure", "ScalarMeasure", "Combination", "Constraint", "reduce_cycle"]
 __all__ += [
@@ -29,3 +30,4 @@ __all__ += [
     "peak_angular_acceleration",
     "KINEMATIC_MEASURES",
 ]
+__all__ += ["peak_torque_factor", "PUMPING_MEASURES"]
