@@ -440,7 +440,8 @@ def sweep(
         before ``design`` is applied (``design`` only sees valid ones).
     angles : crank angles per cycle (count of equal steps, or an array in rad).
     speed : crank speed (rad/s) for velocities and accelerations; None gives analogs.
-    chunk : designs per batch (default: about 2**18 design-angle points per batch).
+    chunk : designs per batch (default: about 2**16 design-angle points per batch, which keep
+        the temporaries of the kinematics in cache).
     progress : show a tqdm bar over the chunks (only on a terminal).
     labels : ``{grid name: axis label with unit}`` for the figure.
 
@@ -483,7 +484,7 @@ def sweep(
     shape = tuple(a.size for a in axes.values())
     total = int(np.prod(shape))
     if chunk is None:
-        chunk = max(1, 2**18 // max(phi.size, 1))
+        chunk = max(1, 2**16 // max(phi.size, 1))
     chunk = int(chunk)
     if chunk < 1:
         raise ValueError(f"chunk must be >= 1, got {chunk}")
