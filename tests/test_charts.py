@@ -219,3 +219,12 @@ def test_sweep_input_errors():
         )
     with pytest.raises(TypeError, match="Measure"):
         sweep(ms.SliderCrank, {"crank": [0.1]}, {"p": 3.0}, fixed={"rod": 1.0}, progress=False)
+
+
+def test_parallel_chunks_give_the_same_chart():
+    lam, e_r = np.linspace(1.5, 8.0, 30), np.linspace(0.0, 2.0, 20)
+    one = slider_crank_chart(0.1, lam, e_r, angles=90, progress=False, workers=1)
+    two = slider_crank_chart(0.1, lam, e_r, angles=90, progress=False, workers=2, chunk=37)
+    np.testing.assert_array_equal(one.feasible, two.feasible)
+    for label in one.values:
+        np.testing.assert_array_equal(one.values[label].filled(0), two.values[label].filled(0))

@@ -423,6 +423,7 @@ def sweep(
     chunk: int | None = None,
     progress: bool = True,
     labels: Mapping[str, str] | None = None,
+    workers: int = 1,
 ) -> Chart:
     """Evaluate ``measures`` over every design of a grid, vectorized in chunks.
 
@@ -444,6 +445,8 @@ def sweep(
         the temporaries of the kinematics in cache).
     progress : show a tqdm bar over the chunks (only on a terminal).
     labels : ``{grid name: axis label with unit}`` for the figure.
+    workers : threads evaluating chunks in parallel (numpy releases the GIL in its array
+        loops); 1 evaluates them one after the other.
 
     Returns
     -------
@@ -531,14 +534,7 @@ def sweep(
             out[label][idx] = np.where(finite, v, 0.0)
         ok_chunk[rows] &= finite
 
-    n_chunks = -(-total // chunk)
-    bar = tqdm(
-        range(n_chunks),
-        disable=None if progress else True,
-        desc=f"sweep {total} designs",
-        leave=False,
-    )
-    for c in bar:
+    def run_chunk(c):
         start = c * chunk
         idx = np.arange(start, min(total, start + chunk))
         k = idx.size
@@ -550,7 +546,7 @@ def sweep(
             if not ok.all():
                 note("outside the chart's feasible region (feasible=...)")
         if not ok.any():
-            continue
+            return
         vals = _substitute(vals, ok)
         mapped = design(dict(vals)) if design is not None else vals
         clash = set(mapped) & set(fixed)
@@ -570,7 +566,7 @@ def sweep(
                     note(f"violates {cname}")
                 ok &= good
         if not ok.any():
-            continue
+            return
         params = _substitute(params, ok)
         for name, v in params.items():
             if isinstance(v, np.ndarray) and v.ndim == 1:
@@ -578,6 +574,29 @@ def sweep(
         rows = np.flatnonzero(ok)
         evaluate(params, rows, ok, start)
         ok_all[idx] = ok
+
+    n_chunks = -(-total // chunk)
+    bar = tqdm(
+        total=n_chunks,
+        disable=None if progress else True,
+        desc=f"sweep {total} designs",
+        leave=False,
+    )
+    workers = int(workers)
+    if workers < 1:
+        raise ValueError(f"workers must be >= 1, got {workers}")
+    if workers == 1:
+        for c in range(n_chunks):
+            run_chunk(c)
+            bar.update()
+    else:
+        # numpy releases the GIL in its array loops: chunks run in parallel threads; each
+        # writes its own slice of the outputs
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(max_workers=workers) as pool:
+            for _ in pool.map(run_chunk, range(n_chunks)):
+                bar.update()
     bar.close()
     if not ok_all.any():
         raise ValueError(f"no feasible design on the grid ({total} designs): {reason[0]}")
@@ -621,6 +640,7 @@ def slider_crank_chart(
     angles: int = 360,
     progress: bool = True,
     chunk: int | None = None,
+    workers: int = 1,
 ) -> Chart:
     """Slider-crank chart at a fixed stroke: peak slider acceleration, maximum pressure angle,
     time ratio and rod length over ``lambda = rod / crank`` and ``e / r = offset / crank``.
@@ -636,6 +656,7 @@ def slider_crank_chart(
     rod_crank, offset_crank : grid values (default 200 values each over [1.5, 8] and [0, 2]).
     speed : crank speed (rad/s; default 600 rpm).
     angles : crank angles per cycle.
+    progress, chunk, workers : as :func:`sweep`.
     """
     from ..kinematics.slider_crank import SliderCrank
     from ..objectives.base import ScalarMeasure
@@ -672,6 +693,7 @@ def slider_crank_chart(
         speed=speed,
         chunk=chunk,
         progress=progress,
+        workers=workers,
         labels={
             "rod/crank": "λ = rod / crank (–)",
             "offset/crank": "e / r = offset / crank (–)",
