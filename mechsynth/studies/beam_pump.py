@@ -182,25 +182,34 @@ def synthesis_problem(base, pressure_limit=None, tf_limit=TF_LIMIT):
     return prob
 
 
-def pareto(base, limits_deg, starts=3):
-    """Peak acceleration vs maximum pressure angle by the epsilon-constraint method: minimize the
-    peak acceleration for each pressure-angle limit. Returns a list of dicts."""
-    rows = []
-    for lim in limits_deg:
-        res = synthesis_problem(base, pressure_limit=deg(lim)).solve(starts=starts, progress=False)
-        row = {"limit_deg": float(lim), "status": res.status, "success": bool(res.success)}
-        if res.design is not None:
-            ev = {c.name: c.value for c in res.constraints}
-            pa = next(v for n, v in ev.items() if n.startswith("max_pressure_angle"))
-            row.update(
-                peak_acceleration=float(res.value),
-                max_pressure_angle_deg=float(np.rad2deg(pa)),
-                **{n: float(getattr(res.design, n)) for n in ("crank", "pitman")},
-                X_O2=float(-res.design.pivot_x),
-                Y_O2=float(res.design.pivot_y),
-            )
-        rows.append(row)
-    return rows
+def pareto(base, n=7, starts=3, anchor_starts=4):
+    """Peak acceleration against maximum pressure angle (paper 000's recommendation 2) by
+    :func:`~mechsynth.synthesis.pareto.pareto_front` (epsilon-constraint on the pressure angle,
+    anchors included), for the base beam and stroke with the torque-factor limit."""
+    from ..synthesis import Problem
+    from ..synthesis.pareto import pareto_front
+
+    prob = Problem(
+        BeamPumpingUnit,
+        variables=dict(SYNTHESIS_BOUNDS),
+        fixed={
+            "rear_arm": base["k"],
+            "front_arm": base["k1"],
+            "unit_class": "mark-ii",
+            "rotation": "ccw",
+        },
+        speed=spm(SPEED_SPM),
+    )
+    prob.subject_to(stroke("slider") == base["H"], peak_torque_factor() <= TF_LIMIT)
+    return pareto_front(
+        prob,
+        peak_acceleration("slider"),
+        max_pressure_angle(),
+        n=n,
+        starts=starts,
+        anchor_starts=anchor_starts,
+        progress=False,
+    )
 
 
 def _active_bounds(res, rtol=1e-6):
@@ -220,28 +229,8 @@ def synthesis_problem_bounds():
     return dict(SYNTHESIS_BOUNDS)
 
 
-def _nondominated(rows):
-    ok = [r for r in rows if r["success"]]
-    front = []
-    for r in ok:
-        dominated = any(
-            (
-                s["peak_acceleration"] <= r["peak_acceleration"] * (1 + 1e-9)
-                and s["max_pressure_angle_deg"] <= r["max_pressure_angle_deg"] + 1e-9
-                and (
-                    s["peak_acceleration"] < r["peak_acceleration"] * (1 - 1e-9)
-                    or s["max_pressure_angle_deg"] < r["max_pressure_angle_deg"] - 1e-9
-                )
-            )
-            for s in ok
-        )
-        if not dominated:
-            front.append(r)
-    return front
-
-
 # ------------------------------------------------------------------------------ run
-def run(out=None, n_angles=721, pareto_points=6, starts=3):
+def run(out=None, n_angles=721, pareto_points=7, starts=3):
     theta = cycle(n_angles - 1)
     base = base_design()
     fit = base["fit"]
@@ -330,9 +319,7 @@ def run(out=None, n_angles=721, pareto_points=6, starts=3):
         both = {r: d.replace(rotation=r) for r in ("ccw", "cw")}
         rot = max(both, key=lambda r: float(both[r].upstroke_span))
         best_design = both[rot]
-    limits = np.linspace(14.0, 40.0, pareto_points)
-    rows = pareto(base, limits, starts=starts)
-    front = _nondominated(rows)
+    front = pareto(base, n=pareto_points, starts=starts)
 
     data = {
         "success": bool(best.success),
@@ -358,15 +345,17 @@ def run(out=None, n_angles=721, pareto_points=6, starts=3):
             "active_bounds": _active_bounds(best),
             "de_cross_check": {"status": de.status, "success": bool(de.success), "value": de.value},
         },
-        "pareto": {"method": "epsilon-constraint on the pressure angle", "points": rows},
-        "pareto_front": front,
+        "pareto": {
+            "method": "epsilon-constraint (synthesis.pareto.pareto_front)",
+            **front.to_dict(),
+        },
         "tf_table_2b": torque_factor_table(units["2b"], 15.0),
     }
 
     files = []
     if out is not None:
-        files = _write(Path(out), theta, w, units, card, table, rows, front, data)
-    summary = _summary(base, fit, table, printed_table, findings, best, best_design, rows)
+        files = _write(Path(out), theta, w, units, card, table, front, data)
+    summary = _summary(base, fit, table, printed_table, findings, best, best_design, front)
     syn = data["synthesis"]
     summary += (
         f"\nsynthesis: variables on a bound of the box: {', '.join(syn['active_bounds']) or 'none'}"
@@ -376,7 +365,7 @@ def run(out=None, n_angles=721, pareto_points=6, starts=3):
     return StudyResult("beam-pump", summary, data, files, errata)
 
 
-def _summary(base, fit, table, printed, findings, best, best_design, rows):
+def _summary(base, fit, table, printed, findings, best, best_design, front):
     lines = [
         "Paper 000: one-armed (Mark II-type) beam pumping unit, axial vs desaxial",
         f"base beam (fitted to the printed r, l by eqs. 2-3): k = {base['k']:.4f} m, "
@@ -413,19 +402,22 @@ def _summary(base, fit, table, printed, findings, best, best_design, rows):
             f"{best_design.rotation}, upstroke {np.rad2deg(best_design.upstroke_span):.2f} deg, "
             f"peak acceleration {best.value:.4f} m/s^2"
         )
-    lines.append("Pareto (epsilon-constraint): limit deg -> peak |a| m/s^2, max pressure angle deg")
-    for r in rows:
-        if r["success"]:
+    lines.append(
+        "Pareto front (epsilon-constraint on the pressure angle; * non-dominated): "
+        "bound deg -> max pressure angle deg, peak |a| m/s^2"
+    )
+    for i, r in enumerate(front.results):
+        if front.success[i]:
             lines.append(
-                f"  {r['limit_deg']:6.2f} -> {r['peak_acceleration']:.4f}, "
-                f"{r['max_pressure_angle_deg']:.2f}"
+                f"  {np.rad2deg(front.eps[i]):6.2f} -> {np.rad2deg(front.second[i]):6.2f}, "
+                f"{front.first[i]:.5f}{' *' if front.nondominated[i] else ''}"
             )
         else:
-            lines.append(f"  {r['limit_deg']:6.2f} -> {r['status']}")
+            lines.append(f"  {np.rad2deg(front.eps[i]):6.2f} -> {r.status}")
     return "\n".join(lines)
 
 
-def _write(out, theta, w, units, card, table, rows, front, data):
+def _write(out, theta, w, units, card, table, front, data):
     import matplotlib
 
     matplotlib.use("Agg")
@@ -478,22 +470,11 @@ def _write(out, theta, w, units, card, table, rows, front, data):
     fig.savefig(files[-1], dpi=110)
     plt.close(fig)
 
-    ok = [r for r in rows if r["success"]]
-    fig, ax = plt.subplots(figsize=(6, 4), constrained_layout=True)
-    ax.plot([r["max_pressure_angle_deg"] for r in ok], [r["peak_acceleration"] for r in ok], "o")
-    ax.plot(
-        [r["max_pressure_angle_deg"] for r in front],
-        [r["peak_acceleration"] for r in front],
-        "k-",
-        label="non-dominated",
-    )
+    fig = front.plot(title="Pareto front, same stroke and beam (paper 000, recommendation 2)")
+    ax = fig.axes[0]
     for name, t in table.items():
-        ax.plot(t["max_pressure_angle_deg"], t["peak_acceleration"], "s", label=name)
-    ax.set_xlabel("maximum pressure angle, deg")
-    ax.set_ylabel("peak polished-rod acceleration, m/s²")
-    ax.set_title("Pareto front (epsilon-constraint), same stroke and beam")
-    ax.grid(True, alpha=0.4)
-    ax.legend()
+        ax.plot(t["max_pressure_angle_deg"], t["peak_acceleration"], "D", label=f"paper: {name}")
+    ax.legend(fontsize=8)
     files.append(out / "beam_pump_pareto.png")
     fig.savefig(files[-1], dpi=110)
     plt.close(fig)
@@ -505,13 +486,7 @@ def _write(out, theta, w, units, card, table, rows, front, data):
         for name, t in table.items():
             wr.writerow([name, *[t[k] for k in keys]])
     files.append(out / "beam_pump_extremes.csv")
-    with open(out / "beam_pump_pareto.csv", "w", newline="") as fh:
-        cols = ["limit_deg", "status", "peak_acceleration", "max_pressure_angle_deg", "crank",
-                "pitman", "X_O2", "Y_O2"]  # fmt: skip
-        wr = csv.writer(fh)
-        wr.writerow(cols)
-        for r in rows:
-            wr.writerow([r.get(c, "") for c in cols])
+    front.to_csv(out / "beam_pump_pareto.csv")
     files.append(out / "beam_pump_pareto.csv")
     (out / "beam_pump.json").write_text(dumps(data) + "\n")
     files.append(out / "beam_pump.json")
