@@ -444,11 +444,12 @@ def _write(out, theta, w, units, card, table, front, data):
     plt.close(fig)
 
     fig, ax = plt.subplots(figsize=(7, 4), constrained_layout=True)
-    for name, u in units.items():
+    for i, (name, u) in enumerate(units.items()):
         tc = torque_curve(u, theta, card)
         cb = optimal_counterbalance(theta, tc.well, free_phase=True, cross_check=False)
-        ax.plot(x, (tc.well - cb.counterbalance.torque(theta)) / 1e3, label=f"{name} net")
-        ax.plot(x, tc.well / 1e3, "--", lw=0.8, label=f"{name} no counterbalance")
+        net = tc.well - cb.counterbalance.torque(theta)
+        ax.plot(x, net / 1e3, color=f"C{i}", label=f"{name} net")
+        ax.plot(x, tc.well / 1e3, "--", color=f"C{i}", lw=0.8, label=f"{name} no counterbalance")
     ax.set_xlabel("crank angle, deg")
     ax.set_ylabel("crank torque, kN m")
     ax.set_title("Crank torque, rectangular card 80/45 kN, optimal counterbalance (Fig. 4)")
