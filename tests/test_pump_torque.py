@@ -3,6 +3,8 @@ permissible load diagram and the torque-factor table."""
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import mechsynth as ms
 from mechsynth.dynamics.pump_torque import (
@@ -148,3 +150,21 @@ def test_inertia_needs_speed_and_scan_fixed_phase():
     base = torque_curve(u, THETA, 5e4).well
     cb, pk = scan_counterbalance(THETA, base, phase=0.0)
     assert pk == pytest.approx(np.max(np.abs(base - cb.torque(THETA))))
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    up=st.floats(20e3, 150e3),
+    ratio=st.floats(0.1, 0.9),
+    su=st.floats(-5e3, 5e3),
+    phase=st.floats(-0.6, 0.6),
+    rotation=st.sampled_from(["cw", "ccw"]),
+)
+def test_lp_matches_scan_on_random_cards(up, ratio, su, phase, rotation):
+    u = unit(rotation)
+    card = rectangular_card(float(u.stroke), up=up, down=up * ratio, n=20)
+    base = torque_curve(u, THETA[::4], card, structural_unbalance=su).well
+    res = optimal_counterbalance(THETA[::4], base, phase=phase)
+    assert res.success
+    assert res.scan_peak_torque == pytest.approx(res.peak_torque, rel=1e-6)
+    assert res.peak_torque <= np.max(np.abs(base)) * (1 + 1e-9)  # never worse than no weights

@@ -340,6 +340,12 @@ def optimal_counterbalance(
     free_phase : optimize the phase too; ``M sin(theta - tau) = a sin(theta) - b cos(theta)``
         with ``a = M cos(tau)``, ``b = M sin(tau)`` is still linear in ``(a, b)``.
     cross_check : also scan the moment (and the phase) on a grid and report it.
+
+    Notes
+    -----
+    With a fixed phase the moment is not bounded below: a negative optimum means the weights
+    belong on the other side of the crank (phase + 180 deg). With a free phase the moment is
+    returned positive with its phase in (-pi, pi].
     """
     import cvxpy as cp
 
