@@ -32,7 +32,11 @@ from ..dynamics.pump_torque import (
     torque_curve,
     torque_factor_table,
 )
-from ..kinematics.pumping_unit import BeamPumpingUnit, paper_crank_and_pitman
+from ..kinematics.pumping_unit import (
+    BeamPumpingUnit,
+    harmonic_approximation,
+    paper_crank_and_pitman,
+)
 from ..objectives import max_pressure_angle, peak_acceleration, stroke
 from ..objectives.pumping import peak_torque_factor
 from ..units import cycle, deg, spm
@@ -140,6 +144,9 @@ def extremes(unit: BeamPumpingUnit, theta, speed, card):
         "min_acceleration": float(a.min()),
         "peak_acceleration": float(np.abs(a).max()),
         "upstroke_peak_acceleration": float(np.abs(a[up]).max()),
+        "mills_peak_acceleration_approximation": float(
+            harmonic_approximation(unit, theta, speed)["mills_peak_acceleration"]
+        ),
         "downstroke_peak_acceleration": float(np.abs(a[~up]).max()),
         "max_pressure_angle_deg": float(np.rad2deg(m.pressure_angle.max())),
         "min_pressure_angle_deg": float(np.rad2deg(m.pressure_angle.min())),
@@ -391,6 +398,12 @@ def _summary(base, fit, table, printed, findings, best, best_design, front):
             f"{t['peak_torque_factor']:6.3f} {t['peak_net_torque_optimal_cb']:9.0f}"
         )
     lines.append("  (* printed r, l used as given; velocity m/s, acceleration m/s^2 at 6 SPM)")
+    parts = []
+    for name, t in table.items():
+        approx = t["mills_peak_acceleration_approximation"]
+        parts.append(f"{name} {approx:.4f} ({(approx / t['peak_acceleration'] - 1) * 100:+.1f} %)")
+    mills = ", ".join(parts)
+    lines.append(f"  Mills' approximate peak acceleration (vs exact): {mills}")
     lines.append("\nfindings of the paper, checked:")
     for k, v in findings.items():
         lines.append(f"  {k}: {'holds' if v else 'does NOT hold'}")
