@@ -10,6 +10,8 @@ Reported:
   the same force's x component as an LP (HiGHS); and the build of the affine map;
 * a 7-point Pareto front (peak slider acceleration vs max pressure angle at stroke 0.1 m).
 
+Also with the chunks evaluated in two threads (``workers=2``).
+
 Run: python benchmarks/bench_charts.py [--repeat N] [--no-pareto]
 """
 
@@ -57,14 +59,17 @@ def main(argv=None):
     args = ap.parse_args(argv)
     rows = {}
 
-    med, best, chart = timed(lambda: slider_crank_chart(0.1, progress=False), args.repeat)
-    evals = chart.size * chart.angles
-    rows["chart"] = (med, best)
-    print(
-        f"slider-crank chart 200 x 200 designs x 360 angles: median {med:.2f} s, min {best:.2f} s"
-        f" ({evals / med / 1e6:.1f} M design-angle evaluations/s; "
-        f"{int(chart.feasible.sum())} feasible)"
-    )
+    for workers in (1, 2):
+        med, best, chart = timed(
+            lambda w=workers: slider_crank_chart(0.1, progress=False, workers=w), args.repeat
+        )
+        evals = chart.size * chart.angles
+        rows[f"chart, {workers} thread(s)"] = (med, best)
+        print(
+            f"slider-crank chart 200 x 200 designs x 360 angles, {workers} thread(s): median "
+            f"{med:.2f} s, min {best:.2f} s ({evals / med / 1e6:.1f} M design-angle "
+            f"evaluations/s; {int(chart.feasible.sum())} feasible)"
+        )
 
     bounds = [(0.0, 0.2), (0.5, 2.0)]
     minimax_affine(affine_map(shaking_force, [0.01, 1.0], 36), norm="euclidean", bounds=bounds)
