@@ -245,6 +245,17 @@ def analyze(unit_file, card=None, out=None, units="oilfield", n=720) -> StudyRes
                 unit, theta, op["rating"], res.counterbalance, op["structural_unbalance"]
             )
         data["success"] = bool(res.success)
+        step = max(1, int(round(n / 24)))
+        data["card"]["torque_curve_15deg"] = [
+            {
+                "crank_angle_deg": float(np.rad2deg(theta[i])),
+                "position": cv(tc.position[i], "length"),
+                "torque_factor": cv(tc.torque_factor[i], "tf"),
+                "load": cv(tc.load[i], "force"),
+                "net_torque": cv(tc.net[i], "torque"),
+            }
+            for i in range(0, n, step)
+        ]
     files = [] if out is None else _write(Path(out), unit, theta, m, tc, pl, U, cv, data)
     return StudyResult("pump-analyze", _summary(data), data, files, [])
 
@@ -283,10 +294,22 @@ def _summary(d) -> str:
             f"phase {c['counterbalance_phase_deg']:.2f} deg (LP {c['counterbalance_status']}; "
             f"scan cross-check: peak {_num(c['scan_peak_net_torque'])})",
             f"peak net torque        {c['peak_net_torque']:.1f} {u['torque']}",
-            f"peak inertia torque    {c['peak_inertia_torque']:.1f} {u['torque']} (included)",
         ]
+        if c["peak_inertia_torque"] > 0:
+            lines.append(
+                f"peak inertia torque    {c['peak_inertia_torque']:.1f} {u['torque']} (included)"
+            )
         if "gearbox_loading_percent" in c:
             lines.append(f"gearbox loading        {c['gearbox_loading_percent']:.1f} % of rating")
+        lines.append(
+            f"\n{'angle':>6s} {'position':>10s} {'TF':>9s} {'load':>10s} {'net torque':>12s}   "
+            f"(deg, {u['length']}, {u['tf']}, {u['force']}, {u['torque']})"
+        )
+        for r in c["torque_curve_15deg"]:
+            lines.append(
+                f"{r['crank_angle_deg']:6.1f} {r['position']:10.3f} {r['torque_factor']:9.3f} "
+                f"{r['load']:10.1f} {r['net_torque']:12.1f}"
+            )
     return "\n".join(lines)
 
 

@@ -51,6 +51,9 @@ def test_analyze_with_card_writes_files(capsys, tmp_path):
     assert c["scan_peak_net_torque"] == pytest.approx(c["peak_net_torque"], rel=1e-6)
     assert c["peak_net_torque"] < c["peak_torque_without_counterbalance"]
     assert 0 < c["gearbox_loading_percent"] < 100
+    curve = c["torque_curve_15deg"]
+    assert [r["crank_angle_deg"] for r in curve] == pytest.approx(np.arange(0, 360, 15))
+    assert max(abs(r["net_torque"]) for r in curve) <= c["peak_net_torque"] * (1 + 1e-12)
     for name in ("polished_rod.png", "torque.png", "permissible_load.png", "torque_curve.csv",
                  "torque_factor_table.csv"):  # fmt: skip
         assert (tmp_path / name).stat().st_size > 0
