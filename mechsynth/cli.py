@@ -72,6 +72,12 @@ CHARTS: dict[str, tuple[str, str, str]] = {
         "Offset slider-crank at a fixed stroke: peak slider acceleration, max pressure angle "
         "and time ratio over (rod/crank, offset/crank)",
     ),
+    "slider-crank-pareto": (
+        "mechsynth.synthesis.pareto",
+        "chart_pareto_slider_crank",
+        "Pareto front of peak slider acceleration vs max pressure angle at a fixed stroke "
+        "(epsilon-constraint)",
+    ),
 }
 
 

@@ -132,3 +132,16 @@ def test_failed_anchor_is_reported_not_raised():
     assert not np.isnan(fr.first.data).any()
     with pytest.raises(ValueError, match="n must be"):
         pareto_front(prob, ob.max_pressure_angle(), ob.stroke("slider"), n=1)
+
+
+def test_pareto_chart_cli(tmp_path, capsys):
+    from mechsynth.cli import CHARTS, main
+
+    assert "slider-crank-pareto" in CHARTS
+    argv = ["chart", "slider-crank-pareto", "--set", "n=3", "--set", "starts=2"]
+    assert main([*argv, "--set", "anchor_starts=4", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "Pareto front" in out and out.count("optimal") == 3
+    for name in ("slider_crank_pareto.png", "slider_crank_pareto.csv", "slider_crank_pareto.json"):
+        assert (tmp_path / name).stat().st_size > 500
+    assert main(["chart", "slider-crank-pareto", "--set", "bogus=1"]) == 1

@@ -36,7 +36,7 @@ import numpy as np
 
 from ..objectives.base import Measure
 
-__all__ = ["ParetoFront", "pareto_front", "true_value"]
+__all__ = ["ParetoFront", "pareto_front", "true_value", "chart_pareto_slider_crank"]
 
 
 def true_value(problem, measure: Measure, design, n_dense: int = 2048) -> float:
@@ -341,3 +341,83 @@ def pareto_front(
         variables=tuple(problem.names),
         solve_time=time.perf_counter() - t0,
     )
+
+
+def chart_pareto_slider_crank(out, options):
+    """``mechsynth chart slider-crank-pareto``: peak slider acceleration against max pressure
+    angle at a fixed stroke. Options: stroke=0.1 (m), rpm=600, n=7 (points, anchors included),
+    starts=4, anchor_starts=8, crank=0.01:0.2, rod=0.05:0.2, offset=-0.1:0.1 (m)."""
+    from ..kinematics.slider_crank import SliderCrank
+    from ..objectives.kinematic import max_pressure_angle, peak_acceleration, stroke
+    from ..studies import StudyResult
+    from ..units import rpm
+    from .problem import Problem
+
+    opts = dict(options)
+
+    def span(key, default):
+        try:
+            lo, hi = (float(v) for v in opts.pop(key, default).split(":"))
+        except ValueError as exc:
+            raise ValueError(f"{key} must be LOW:HIGH (m), e.g. {default}") from exc
+        return lo, hi
+
+    H = float(opts.pop("stroke", "0.1"))
+    speed_rpm = float(opts.pop("rpm", "600"))
+    n = int(opts.pop("n", "7"))
+    starts = int(opts.pop("starts", "4"))
+    anchor_starts = int(opts.pop("anchor_starts", "8"))
+    variables = {
+        "crank": span("crank", "0.01:0.2"),
+        "rod": span("rod", "0.05:0.2"),
+        "offset": span("offset", "-0.1:0.1"),
+    }
+    if opts:
+        raise ValueError(f"unknown chart option(s): {', '.join(sorted(opts))}")
+    prob = Problem(SliderCrank, variables, speed=rpm(speed_rpm))
+    prob.subject_to(stroke("slider") == H)
+    fr = pareto_front(
+        prob,
+        peak_acceleration("slider"),
+        max_pressure_angle(),
+        n=n,
+        starts=starts,
+        anchor_starts=anchor_starts,
+    )
+    files = []
+    if out is not None:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        from ..jsonutil import dumps
+
+        out = Path(out)
+        out.mkdir(parents=True, exist_ok=True)
+        files.append(fr.to_csv(out / "slider_crank_pareto.csv"))
+        (out / "slider_crank_pareto.json").write_text(dumps(fr.to_dict()) + "\n")
+        files.append(out / "slider_crank_pareto.json")
+        fig = fr.plot(
+            title=f"Slider-crank, stroke {H * 1e3:g} mm, {speed_rpm:g} rpm: peak acceleration "
+            "vs max pressure angle"
+        )
+        fig.savefig(out / "slider_crank_pareto.png", dpi=120)
+        plt.close(fig)
+        files.append(out / "slider_crank_pareto.png")
+    lines = [
+        f"Pareto front, slider-crank stroke {H:g} m at {speed_rpm:g} rpm ({fr.n_points} points, "
+        f"{fr.solve_time:.1f} s):",
+        f"  {'max pressure angle, deg':>24s} {'peak acceleration, m/s^2':>25s}  status",
+    ]
+    for i, r in enumerate(fr.results):
+        if fr.success[i]:
+            mark = "" if fr.nondominated[i] else " (dominated)"
+            lines.append(
+                f"  {np.rad2deg(fr.second[i]):24.4f} {fr.first[i]:25.7g}  {r.status}{mark}"
+            )
+        else:
+            lines.append(f"  {'-':>24s} {'-':>25s}  {r.status}: {r.message}")
+    data = fr.to_dict()
+    data["success"] = bool(fr.success.all())
+    return StudyResult("slider-crank-pareto", "\n".join(lines), data, [Path(f) for f in files])
