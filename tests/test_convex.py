@@ -50,7 +50,7 @@ def test_affine_map_rejects_non_affine_and_bad_output():
     with pytest.raises(ValueError, match="not affine in x"):
         affine_map(lambda x, phi: x[0] ** 2 * np.cos(phi), [1.0], 36)
     with pytest.raises(ValueError, match="not affine in x"):
-        affine_map(lambda x, phi: np.abs(x[0]) * np.cos(phi), [0.0], 36)
+        affine_map(lambda x, phi: np.abs(x[0] - 1.0) * np.cos(phi), [0.0], 36)
     with pytest.raises(ValueError, match="shape"):
         affine_map(lambda x, phi: np.zeros(3), [1.0], 36)
     with pytest.raises(ValueError, match="not finite"):
@@ -218,3 +218,17 @@ def test_report_dict_and_plot():
     assert d["status"] == "optimal" and set(d["variables"]) == {"u", "m_slider"}
     fig = res.plot(label="shaking force", unit="N")
     assert len(fig.axes[0].lines) >= 2
+
+
+def test_affine_map_only_evaluates_forward_of_x0():
+    """A model that rejects negative masses is never called with one when x0 >= 0."""
+    seen = []
+
+    def force(x, phi):
+        if np.any(x < 0):
+            raise ValueError(f"mass must be >= 0, got {x}")
+        seen.append(x.copy())
+        return x[0] * np.cos(phi) + x[1] * np.sin(phi)
+
+    amap = affine_map(force, [0.0, 0.0], 12)
+    assert len(seen) == 1 + 2 + 3 and amap.A.shape == (12, 2)
