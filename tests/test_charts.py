@@ -228,3 +228,23 @@ def test_parallel_chunks_give_the_same_chart():
     np.testing.assert_array_equal(one.feasible, two.feasible)
     for label in one.values:
         np.testing.assert_array_equal(one.values[label].filled(0), two.values[label].filled(0))
+
+
+def test_four_bar_chart_masks_designs_whose_crank_cannot_turn():
+    """The four-bar's feasibility hook (Grashof full turn of the crank) sets the mask."""
+    coupler, rocker = np.linspace(1.5, 6.0, 16), np.linspace(1.5, 5.0, 12)
+    ch = sweep(
+        ms.FourBar,
+        {"coupler": coupler, "rocker": rocker},
+        {"mu": ob.min_transmission_angle(), "swing": ob.swing_angle()},
+        fixed={"crank": 1.0, "ground": 4.0},
+        angles=90,
+        progress=False,
+    )
+    b, c = np.meshgrid(coupler, rocker, indexing="ij")
+    turns = (1.0 + 4.0 < b + c) & (np.abs(4.0 - 1.0) > np.abs(b - c))
+    np.testing.assert_array_equal(ch.feasible, turns)
+    i, j = np.argwhere(turns)[3]
+    fb = ms.FourBar(1.0, coupler[i], rocker[j], 4.0)
+    assert ch.values["swing"][i, j] == pytest.approx(fb.swing_angle, rel=1e-12)
+    assert not np.isnan(ch.values["mu"].data).any()
