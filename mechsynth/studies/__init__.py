@@ -7,9 +7,9 @@ A study is a module with a ``run(out=None, **options) -> StudyResult`` function,
 from __future__ import annotations
 
 import importlib
-from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+
+from ..report import StudyResult
 
 __all__ = ["StudyResult", "STUDIES", "get_study", "run_study"]
 
@@ -28,26 +28,6 @@ STUDIES: dict[str, tuple[str, str]] = {
         "Paper 000: axial vs desaxial Mark II-type pumping units; synthesis and Pareto front",
     ),
 }
-
-
-@dataclass
-class StudyResult:
-    """What a study produced.
-
-    Attributes
-    ----------
-    name : the study's registry name.
-    summary : human-readable report (tables with published vs computed values, deviations).
-    data : JSON-serializable results (what ``--json`` prints).
-    files : figures and tables written to ``out``.
-    errata : errors found in the source, one sentence each.
-    """
-
-    name: str
-    summary: str
-    data: dict[str, Any]
-    files: list[Path] = field(default_factory=list)
-    errata: list[str] = field(default_factory=list)
 
 
 def get_study(name: str):

@@ -705,7 +705,7 @@ def chart_slider_crank(out, options):
     """``mechsynth chart slider-crank``: options stroke=0.1 (m), rpm=600, n=60 (grid points
     per axis), n_angles=360, rod_crank=1.5:8, offset_crank=0:2, pressure_limit_deg=30,
     rod_max (m, optional: a limit on the rod length)."""
-    from ..studies import StudyResult
+    from ..report import StudyResult
     from ..units import deg, rpm
 
     opts = dict(options)

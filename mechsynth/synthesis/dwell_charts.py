@@ -141,7 +141,7 @@ def plot_dwell_chart(chart: DwellChart, path=None):
 def chart_dwell(out, options):
     """``mechsynth chart dwell``: options gamma_deg=0,20,40 tolerance=0.002 n=20 window_deg=90
     n_angles=360 r=0.05:0.5 k=0.3:2.5."""
-    from ..studies import StudyResult
+    from ..report import StudyResult
 
     opts = dict(options)
 

@@ -349,7 +349,7 @@ def chart_pareto_slider_crank(out, options):
     starts=4, anchor_starts=8, crank=0.01:0.2, rod=0.05:0.2, offset=-0.1:0.1 (m)."""
     from ..kinematics.slider_crank import SliderCrank
     from ..objectives.kinematic import max_pressure_angle, peak_acceleration, stroke
-    from ..studies import StudyResult
+    from ..report import StudyResult
     from ..units import rpm
     from .problem import Problem
 
