@@ -414,3 +414,13 @@ def test_dyad_rrr_symbolic_matches_numeric():
     f = ca.Function("f", [x], [ca.vertcat(c.x, c.y, c.ddx)])
     num, _, _ = dyad_rrr(p1, PointJet.fixed(5.0, 0.0), 4.0, 3.0)
     np.testing.assert_allclose(np.array(f([5.0, 4.0])).ravel(), [num.x, num.y, num.ddx], rtol=1e-13)
+
+
+def test_toggle_positions_raise_instead_of_nan():
+    # change-point parallelogram: all four links in line at phi = 0 (0/0 in the RRR dyad)
+    with pytest.raises(MechanismError, match=r"RRR dyad: links in line .* at crank angle 0 deg"):
+        FourBar(1.0, 2.0, 1.0, 2.0, full_turn=False).motion(np.array([0.0, 0.5]))
+    # crank pin at the link's length from the guide: the link stands perpendicular to it
+    p = crank(np.pi / 2, 1.0)
+    with pytest.raises(MechanismError, match=r"RRP dyad: link perpendicular .* at crank angle 90"):
+        dyad_rrp(p, 1.0, phi=np.pi / 2)

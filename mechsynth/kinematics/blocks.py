@@ -46,6 +46,23 @@ def _check_nonnegative(value, scale, what, phi=None):
     return np.maximum(value, 0.0)
 
 
+def _check_toggle(what, phi, *analogs):
+    """Raise MechanismError where an analog is not finite: the dyad is at a toggle position (its
+    links in line), where the velocity analogs are infinite or 0/0. Checked only for numeric
+    input with the crank angles given."""
+    if phi is None or ops.is_symbolic(phi, *analogs):
+        return
+    bad = ~np.isfinite(analogs[0])
+    for x in analogs[1:]:
+        bad = bad | ~np.isfinite(x)
+    if np.any(bad):
+        idx = np.unravel_index(int(np.argmax(bad)), bad.shape)
+        ph = np.broadcast_to(np.asarray(phi, dtype=float), bad.shape)[idx]
+        raise MechanismError(
+            f"{what} at crank angle {np.rad2deg(ph):.6g} deg: the velocity analogs are infinite"
+        )
+
+
 def crank(phi, length, x0=0.0, y0=0.0, phase=0.0) -> PointJet:
     """Crank pin A of a crank of ``length`` (m) pivoted at (x0, y0), angle ``phi + phase`` from +x.
 
@@ -126,6 +143,7 @@ def dyad_rrr(p1: PointJet, p2: PointJet, l1, l2, branch=1, phi=None):
     ry2 = p2.ddy - p1.ddy + l1 * w1 * w1 * s1 - l2 * w2 * w2 * s2
     e1 = (rx2 * c2 + ry2 * s2) / (l1 * sin21)
     e2 = (rx2 * c1 + ry2 * s1) / (l2 * sin21)
+    _check_toggle("RRR dyad: links in line (toggle position)", phi, w1, w2, e1, e2)
     c = PointJet(
         cx,
         cy,
@@ -167,6 +185,7 @@ def dyad_rrp(p: PointJet, length, guide_x=0.0, guide_y=0.0, guide_angle=0.0, bra
     h2 = p.ddx * nx + p.ddy * ny
     w_1 = -hgt * h1 / w
     w_2 = -(h1 * h1 + hgt * h2) / w - (hgt * h1) ** 2 / (w * w2)
+    _check_toggle("RRP dyad: link perpendicular to the guide (toggle position)", phi, w_1, w_2)
     s = Jet(t + branch * w, t1 + branch * w_1, t2 + branch * w_2)
     b = PointJet(
         guide_x + s.value * ux,
@@ -211,4 +230,5 @@ def dyad_rpr(p: PointJet, pivot_x, pivot_y, offset=0.0, branch=1, phi=None):
     pn2 = -p.ddx * sn + p.ddy * c
     eps = (pn2 - 2.0 * s_1 * w + offset * w * w) / s
     s_2 = pu2 + offset * eps + s * w * w
+    _check_toggle("RPR dyad: slider at the foot of the lever pivot (s = 0)", phi, w, eps)
     return Jet(th, w, eps), Jet(s, s_1, s_2)
