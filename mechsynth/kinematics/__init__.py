@@ -1,7 +1,8 @@
 """Geometry and motion: building blocks (crank, dyads) and the named mechanisms built from them."""
 
-from . import ops
+from . import four_bar_formulas, ops
 from .blocks import coupler_point, crank, dyad_rpr, dyad_rrp, dyad_rrr, link_angle
+from .compiled import FourBarBatch, SliderCrankBatch, four_bar_batch, slider_crank_batch
 from .dwell import DwellSliderCrank
 from .four_bar import FourBar, Grashof, grashof
 from .mechanism import Mechanism
@@ -31,4 +32,9 @@ __all__ = [
     "Motion",
     "BeamPumpingUnit",
     "PumpMotion",
+    "four_bar_formulas",
+    "four_bar_batch",
+    "slider_crank_batch",
+    "FourBarBatch",
+    "SliderCrankBatch",
 ]
