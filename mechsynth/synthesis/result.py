@@ -70,8 +70,11 @@ class Certification:
         design, e.g. a crank that cannot turn, is skipped and replaced by the next Sobol point).
     starts_skipped : invalid start points skipped.
     starts_converged : local solves that converged to a feasible point.
-    local_optima : objective values (on the base grid) of the converged local solves, ascending.
-    spread : ``max - min`` of ``local_optima`` relative to the best (0 with one optimum).
+    local_optima : true objective values (continuous peaks) of the distinct certified local
+        optima, ascending (converged starts ending at the same design count once).
+    spread : ``max - min`` of ``local_optima`` relative to the smallest (0 with one optimum).
+        A spread above zero means the starts found different local optima: the reported one is
+        the best found, global optimality is not proven.
     peaks : :class:`~mechsynth.synthesis.certify.PeakCheck` per peak measure at the reported
         design: solver grid value vs true value from dense evaluation + 1-D search.
     refinement_rounds : re-solves after adding angles to the grid.
@@ -81,6 +84,8 @@ class Certification:
     rtol : certification tolerance.
     cross_check : optional dict from a global method (e.g. differential evolution: its design
         and value before the local polish).
+    distinct_optima : number of distinct local optima (``len(local_optima)``).
+    best_hits : converged starts that ended at the reported design.
     """
 
     method: str
@@ -97,6 +102,8 @@ class Certification:
     certified: bool
     rtol: float
     cross_check: dict | None = None
+    distinct_optima: int = 0
+    best_hits: int = 0
 
     def to_dict(self) -> dict[str, Any]:
         return dict(
@@ -123,6 +130,8 @@ class Certification:
             certified=self.certified,
             rtol=self.rtol,
             cross_check=self.cross_check,
+            distinct_optima=self.distinct_optima,
+            best_hits=self.best_hits,
         )
 
 
@@ -212,7 +221,8 @@ class Result:
                 lines.append(f"  {cv.name:40s} value {cv.value:.10g}  [{flag}]")
         lines.append(
             f"certification ({c.method}): {c.starts_run} starts run ({c.starts_skipped} invalid "
-            f"skipped), {c.starts_converged} converged; spread of local optima {c.spread:.3g}"
+            f"skipped), {c.starts_converged} converged; {c.distinct_optima} distinct local "
+            f"optima, spread {c.spread:.3g}; {c.best_hits} start(s) reached the reported one"
         )
         for p in c.peaks:
             lines.append(

@@ -7,13 +7,15 @@ Local method (``"ipopt"``, ``"slsqp"``)
        ``feasibility_constraints``) are skipped and replaced by the next point.
     2. Each start is solved on the base grid (IPOPT through CasADi with exact first and second
        derivatives, or scipy SLSQP with exact CasADi gradients).
-    3. The best feasible local optimum is *certified*: for every peak measure the true continuous
-       extremum is located (dense evaluation + 1-D local search); where the grid missed it, the
-       angle is added to the grid and the problem re-solved from the current point, until every
-       grid peak equals its true peak within ``rtol``.
-    4. The grid problem is a relaxation of the continuous one (fewer epigraph constraints), so a
-       start whose grid optimum is below the certified incumbent could still be better: such
-       starts are certified too.
+    3. Every distinct feasible local optimum is *certified* on its own grid: for every peak
+       measure the true continuous extremum is located (dense evaluation + 1-D local search);
+       where the grid missed it, the angle is added to the grid and the problem re-solved from
+       the current point, until every grid peak equals its true peak within ``rtol``.
+    4. The candidates are compared by their true continuous objective (never by grid values:
+       the grid problem is a relaxation, its value lies below the true one by a design-dependent
+       amount). The outcome of a start does not depend on the other starts, so more starts
+       never give a worse result; the true values of the distinct optima are the
+       certification's ``local_optima``.
 
 Global method (``"de"``)
     scipy's differential evolution over the box, every population evaluated in one vectorized
@@ -403,8 +405,7 @@ def solve(
         local_method, starts = "ipopt", 1
         x0 = dict(zip(problem.names, problem._transcription(16).params_of(z_de)))
 
-    cert = _Certifier(problem, local_method, options, rtol, max_rounds, n_dense)
-    tr = cert.tr
+    tr = problem._transcription(16)
     grid = problem.base_angles
     points, skipped, reason = _start_points(problem, tr, starts, seed, x0)
     if not points:
@@ -418,38 +419,25 @@ def solve(
         runs.append(_assess(problem, tr, _Run(x, status, raw, it, scales, lam), grid))
 
     tol = problem.tol
-    feasible = sorted([r for r in runs if _feasible(r, tol)], key=lambda r: r.objective)
-    local_optima = tuple(
-        sorted(r.objective if problem.sense == "min" else -r.objective for r in feasible)
-    )
+    feasible = [r for r in runs if _feasible(r, tol)]
     if feasible:
-        best, checks, certified, true_q = cert.run(feasible[0])
-        best_val = best.objective
-        # the grid problem is a relaxation: a start below the certified value may still win
-        for other in feasible[1:4]:
-            if other.objective >= best_val - 1e-9 * max(1.0, abs(best_val)):
-                break
-            cand = cert.run(other)
-            if (
-                cand[0].design is not None
-                and _feasible(cand[0], tol)
-                and cand[0].objective < best_val
-            ):
-                best, checks, certified, true_q = cand
-                best_val = best.objective
+        chosen, optima, hits = _certify_all(
+            problem, feasible, local_method, options, rtol, max_rounds, n_dense
+        )
+        best, checks, certified, true_q, cert, value, cvs = chosen
     else:
+        cert = _Certifier(problem, local_method, options, rtol, max_rounds, n_dense)
         best = min(
             runs, key=lambda r: (r.violation, r.objective if np.isfinite(r.objective) else np.inf)
         )
         checks, certified, true_q = (), False, {}
+        optima, hits = (), 0
+        value, cvs = np.nan, ()
         if best.design is not None:
             checks, _, true_q = cert.checks(best.design)
             checks = tuple(checks)
+            value, cvs = _final(problem, cert.tr, best.design, true_q, rtol)
     tr = cert.tr
-    if best.design is not None:
-        value, cvs = _final(problem, tr, best.design, true_q, rtol)
-    else:
-        value, cvs = np.nan, ()
     violated = [c for c in cvs if not c.satisfied]
     if best.design is not None and _feasible(best, tol) and not violated:
         status = "optimal" if certified else "uncertified"
@@ -458,9 +446,15 @@ def solve(
     else:
         status = best.status
     message = _message(status, best, violated, cert, certified)
+    local_optima = tuple(sorted(optima))
     spread = 0.0
     if len(local_optima) > 1:
         spread = (local_optima[-1] - local_optima[0]) / max(abs(local_optima[0]), 1e-300)
+    if status == "optimal" and len(local_optima) > 1 and spread > 1e-6:
+        message += (
+            f"; best of {len(local_optima)} distinct local optima (spread {spread:.3g}), "
+            "global optimality not proven"
+        )
     certification = Certification(
         method=method,
         starts_requested=starts,
@@ -476,6 +470,8 @@ def solve(
         certified=bool(certified),
         rtol=rtol,
         cross_check=cross,
+        distinct_optima=len(local_optima),
+        best_hits=int(hits),
     )
     variables = dict(zip(problem.names, map(float, tr.params_of(np.clip(best.x[: tr.n], 0, 1)))))
     return Result(
@@ -492,6 +488,79 @@ def solve(
         solve_time=time.perf_counter() - t_start,
         speed=problem.speed,
     )
+
+
+# ------------------------------------------------------------------------------ selection
+def _same_design(a, b, n, atol=1e-4):
+    """Two scaled designs closer than ``atol`` in every variable (box fractions)."""
+    return bool(np.max(np.abs(np.asarray(a[:n]) - np.asarray(b[:n]))) <= atol)
+
+
+def _certify_all(problem, feasible, method, options, rtol, max_rounds, n_dense):
+    """Certify every distinct local optimum independently and pick the best true value.
+
+    Each distinct converged start (in start order; a start landing on the design of an earlier
+    one is a repeat) is refined on its *own* grid from the base angles and compared by the true
+    continuous objective at its certified design. So the outcome of a start does not depend on
+    the other starts, and adding starts can only add candidates: more starts never report a
+    worse optimum. Comparing grid objectives instead would mix values on different grids (a
+    base-grid value is a relaxation, below the true one).
+
+    Returns
+    -------
+    chosen : (run, checks, certified, true_q, certifier, value, constraint values).
+    optima : true objective values of the distinct certified designs (natural sense).
+    hits : converged starts that ended at the chosen design.
+    """
+    tol = problem.tol
+    n = len(problem.names)
+    reps: list[_Run] = []
+    owner: list[int] = []
+    for r in feasible:
+        for j, q in enumerate(reps):
+            if _same_design(r.x, q.x, n):
+                owner.append(j)
+                break
+        else:
+            owner.append(len(reps))
+            reps.append(r)
+    sign = 1.0 if problem.sense == "min" else -1.0
+    outcomes = []
+    for rep in reps:
+        cert = _Certifier(problem, method, options, rtol, max_rounds, n_dense)
+        run, checks, certified, true_q = cert.run(rep)
+        if run.design is None:
+            outcomes.append(None)
+            continue
+        value, cvs = _final(problem, cert.tr, run.design, true_q, rtol)
+        ok = _feasible(run, tol) and all(c.satisfied for c in cvs)
+        rank = 0 if (ok and certified) else (1 if ok else 2)
+        key = (rank, sign * value if np.isfinite(value) else np.inf)
+        outcomes.append((key, (run, tuple(checks), certified, true_q, cert, value, cvs)))
+    valid = [(i, o) for i, o in enumerate(outcomes) if o is not None]
+    if not valid:  # every certification lost the design: report the best start as found
+        cert = _Certifier(problem, method, options, rtol, max_rounds, n_dense)
+        rep = reps[0]
+        return (rep, (), False, {}, cert, np.nan, ()), (), 0
+    i_best, (_, chosen) = min(valid, key=lambda io: io[1][0])
+    # distinct certified designs among the good outcomes, their true values
+    rank0 = outcomes[i_best][0][0]
+    designs, optima, where = [], [], {}
+    for i, (key, out) in valid:
+        if key[0] != rank0:
+            continue
+        x = out[0].x
+        for j, d in enumerate(designs):
+            if _same_design(x, d, n):
+                where[i] = j
+                break
+        else:
+            where[i] = len(designs)
+            designs.append(x)
+            optima.append(float(out[5]))
+    best_cluster = where[i_best]
+    hits = sum(1 for o in owner if where.get(o) == best_cluster)
+    return chosen, tuple(optima), hits
 
 
 def _message(status, run, violated, cert, certified):
