@@ -185,6 +185,24 @@ class Problem:
             self._cache[key] = Transcription(self, n_extra)
         return self._cache[key]
 
+    def _numeric(self):
+        """The problem's forms for numpy evaluation (no CasADi)."""
+        from .transcription import NumericForms
+
+        if "numeric" not in self._cache:
+            self._cache["numeric"] = NumericForms(self)
+        return self._cache["numeric"]
+
+    def _smooth_error(self):
+        """None when the CasADi transcription builds, else the SolverError explaining why."""
+        from ..errors import SolverError
+
+        try:
+            self._transcription(16)
+        except SolverError as exc:
+            return exc
+        return None
+
     # ------------------------------------------------------------------ analysis
     def design(self, **values):
         """The mechanism for variable values ``values`` (and the fixed parameters)."""
@@ -224,13 +242,17 @@ class Problem:
         ----------
         method : ``"ipopt"`` (default; CasADi exact derivatives), ``"slsqp"`` (scipy, exact CasADi
             gradients) or ``"de"`` (scipy differential evolution, then a certified IPOPT polish
-            unless ``polish=False``).
+            unless ``polish=False``). Measures that evaluate only with numpy (non-smooth ones,
+            e.g. the dwell metrics) work with ``"de"`` alone: the polish is then skipped and the
+            result is ``"uncertified"`` (never ``"optimal"``), with the reason in its message.
         starts : number of valid Sobol start points of the local methods.
         seed : seed of the Sobol sample and of differential evolution.
         progress : show a tqdm bar over the starts (None: only on a terminal).
         rtol : certification tolerance: grid peak vs true peak, relative.
         max_rounds : limit of grid-refinement re-solves.
-        n_dense : angles of the dense evaluation that locates the true peaks.
+        n_dense : angles of the dense evaluation that locates the true peaks; the reported
+            values of the other cycle measures (averages, numpy-only measures) use this uniform
+            grid too.
         options : options for the local solver (IPOPT options without the ``ipopt.`` prefix, or
             scipy SLSQP options).
         x0 : optional start design ``{name: value}`` tried first.

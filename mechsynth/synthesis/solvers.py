@@ -289,11 +289,12 @@ def _peak_atoms(tr: Transcription):
 class _Certifier:
     """Refines the grid around one candidate until its peaks are certified."""
 
-    def __init__(self, problem, method, options, rtol, max_rounds, n_dense):
+    def __init__(self, problem, method, options, rtol, max_rounds, n_dense, tr=None):
         self.problem, self.method, self.options = problem, method, options
         self.rtol, self.max_rounds, self.n_dense = rtol, max_rounds, n_dense
         self.extra: list[float] = []
-        self.tr = problem._transcription(16)
+        # numeric forms suffice to check peaks without re-solving (max_rounds 0)
+        self.tr = problem._transcription(16) if tr is None else tr
         self.atoms = _peak_atoms(self.tr)
         self.rounds = 0
 
@@ -345,12 +346,12 @@ class _Certifier:
 
 
 # ------------------------------------------------------------------------------ final numbers
-def _final(problem, tr, mech, true_q, rtol):
-    """Objective and constraint values at ``mech`` with true peaks (dense uniform grid for
-    averages)."""
+def _final(problem, tr, mech, true_q, n_dense=2048):
+    """Objective and constraint values at ``mech`` with true peaks (a uniform grid of
+    ``n_dense`` angles for averages and numpy-only measures)."""
     from ..units import cycle
 
-    motion = mech.motion(cycle(2048), speed=problem.speed)
+    motion = mech.motion(cycle(n_dense), speed=problem.speed)
     peaks = {}
     for form in [tr.objective, *tr.constraints]:
         for _, atom in form.terms:
@@ -393,6 +394,10 @@ def solve(
         raise ValueError("the problem has no objective: call minimize(...) or maximize(...)")
     if method not in ("ipopt", "slsqp", "de"):
         raise ValueError(f"method must be 'ipopt', 'slsqp' or 'de', got {method!r}")
+    if method != "de":
+        why = problem._smooth_error()
+        if why is not None:
+            raise why
     starts = int(starts)
     if starts < 1:
         raise ValueError(f"starts must be at least 1, got {starts}")
@@ -402,8 +407,11 @@ def solve(
         cross, z_de = _differential_evolution(problem, seed, progress, de_options or {})
         if not polish:
             return _de_result(problem, cross, z_de, rtol, n_dense, t_start)
+        why = problem._smooth_error()
+        if why is not None:  # a numpy-only measure: no gradient polish, no certificate
+            return _de_result(problem, cross, z_de, rtol, n_dense, t_start, skipped=str(why))
         local_method, starts = "ipopt", 1
-        x0 = dict(zip(problem.names, problem._transcription(16).params_of(z_de)))
+        x0 = dict(zip(problem.names, problem._numeric().params_of(z_de)))
 
     tr = problem._transcription(16)
     grid = problem.base_angles
@@ -436,7 +444,7 @@ def solve(
         if best.design is not None:
             checks, _, true_q = cert.checks(best.design)
             checks = tuple(checks)
-            value, cvs = _final(problem, cert.tr, best.design, true_q, rtol)
+            value, cvs = _final(problem, cert.tr, best.design, true_q, n_dense)
     tr = cert.tr
     violated = [c for c in cvs if not c.satisfied]
     if best.design is not None and _feasible(best, tol) and not violated:
@@ -532,7 +540,7 @@ def _certify_all(problem, feasible, method, options, rtol, max_rounds, n_dense):
         if run.design is None:
             outcomes.append(None)
             continue
-        value, cvs = _final(problem, cert.tr, run.design, true_q, rtol)
+        value, cvs = _final(problem, cert.tr, run.design, true_q, n_dense)
         ok = _feasible(run, tol) and all(c.satisfied for c in cvs)
         rank = 0 if (ok and certified) else (1 if ok else 2)
         key = (rank, sign * value if np.isfinite(value) else np.inf)
@@ -605,7 +613,7 @@ class _BatchEvaluator:
         from ..units import cycle
 
         self.problem = problem
-        self.tr = problem._transcription(16)
+        self.tr = problem._numeric()
         self.phi = cycle(n_angles)
         self.eq_rtol = eq_rtol
         hook = getattr(problem.mechanism, "feasibility_constraints", None)
@@ -722,9 +730,10 @@ def _differential_evolution(problem, seed, progress, opts):
     return cross, z
 
 
-def _de_result(problem, cross, z, rtol, n_dense, t_start):
-    """Result of differential evolution alone (no local polish): true peaks at its design."""
-    cert = _Certifier(problem, "ipopt", None, rtol, 0, n_dense)
+def _de_result(problem, cross, z, rtol, n_dense, t_start, skipped=None):
+    """Result of differential evolution alone (no local polish): true peaks at its design.
+    ``skipped`` is the reason the polish could not run (a measure without a CasADi form)."""
+    cert = _Certifier(problem, "ipopt", None, rtol, 0, n_dense, tr=problem._numeric())
     tr = cert.tr
     run = _assess(
         problem, tr, _Run(np.asarray(z), "optimal", "differential evolution", 0, ()), cert.grid
@@ -732,7 +741,7 @@ def _de_result(problem, cross, z, rtol, n_dense, t_start):
     checks, true_q = (), {}
     if run.design is not None:
         checks, _, true_q = cert.checks(run.design)
-        value, cvs = _final(problem, tr, run.design, true_q, rtol)
+        value, cvs = _final(problem, tr, run.design, true_q, n_dense)
     else:
         value, cvs = np.nan, ()
     violated = [c for c in cvs if not c.satisfied]
@@ -753,8 +762,15 @@ def _de_result(problem, cross, z, rtol, n_dense, t_start):
         False,
         rtol,
         cross,
+        distinct_optima=1,
+        best_hits=1,
     )
     msg = "differential evolution without local polish: no optimality certificate"
+    if skipped:
+        msg = (
+            "differential evolution only, local polish skipped (the problem has no smooth "
+            f"CasADi form: {skipped.split(' (')[0]}): no optimality certificate"
+        )
     if violated:
         msg += "; violated " + "; ".join(f"{c.name} (value {c.value:.6g})" for c in violated)
     return Result(

@@ -30,7 +30,7 @@ import numpy as np
 from ..errors import SolverError
 from ..objectives.base import Combination, CycleMeasure, Measure, ScalarMeasure
 
-__all__ = ["Atom", "LinearForm", "flatten", "Transcription"]
+__all__ = ["Atom", "LinearForm", "flatten", "NumericForms", "Transcription"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -139,6 +139,36 @@ def evaluate_form(form: LinearForm, mechanism, motion, peaks: dict | None = None
     return total
 
 
+class NumericForms:
+    """The numeric side of a problem: flattened objective and constraints and the scaling of the
+    variables to their box, without CasADi. Differential evolution and the checks of a design
+    use it, so measures that only evaluate with numpy (non-smooth ones such as the dwell
+    metrics) can still be optimized by ``method="de"``.
+
+    Attributes
+    ----------
+    n : number of variables; ``lo``, ``hi`` their bounds.
+    objective : :class:`LinearForm` of the objective; ``constraints`` one per constraint.
+    """
+
+    def __init__(self, problem):
+        self.problem = problem
+        self.cls = problem.mechanism
+        self.n = len(problem.names)
+        self.n_base = len(problem.base_angles)
+        self.objective = flatten(problem.objective, self.cls)
+        self.constraints = [flatten(c.measure, self.cls) for c in problem.constraints]
+        self.lo = np.array([problem.variables[k][0] for k in problem.names], dtype=float)
+        self.hi = np.array([problem.variables[k][1] for k in problem.names], dtype=float)
+
+    def params_of(self, z):
+        return self.lo + (self.hi - self.lo) * np.asarray(z, dtype=float)
+
+    def z_of(self, values):
+        span = np.where(self.hi > self.lo, self.hi - self.lo, 1.0)
+        return (np.asarray(values, dtype=float) - self.lo) / span
+
+
 # ---------------------------------------------------------------------------------- symbolic
 @dataclass
 class _Epigraph:
@@ -146,7 +176,7 @@ class _Epigraph:
     rows: Any  # SX column of q/T - tau
 
 
-class Transcription:
+class Transcription(NumericForms):
     """The smooth NLP of a problem over ``n_base + n_extra`` grid angles.
 
     Decision vector ``x = [z, tau]``: the design variables scaled to [0, 1] in their box, then
@@ -162,15 +192,8 @@ class Transcription:
     def __init__(self, problem, n_extra: int = 16):
         import casadi as ca
 
-        self.problem = problem
-        self.cls = problem.mechanism
-        self.n = len(problem.names)
-        self.n_base = len(problem.base_angles)
+        super().__init__(problem)
         self.n_extra = int(n_extra)
-        self.objective = flatten(problem.objective, self.cls)
-        self.constraints = [flatten(c.measure, self.cls) for c in problem.constraints]
-        self.lo = np.array([problem.variables[k][0] for k in problem.names], dtype=float)
-        self.hi = np.array([problem.variables[k][1] for k in problem.names], dtype=float)
 
         z = ca.SX.sym("z", self.n)
         phi = ca.SX.sym("phi", self.n_base + self.n_extra)
@@ -309,13 +332,6 @@ class Transcription:
         return None
 
     # ----------------------------------------------------------------- numeric helpers
-    def params_of(self, z):
-        return self.lo + (self.hi - self.lo) * np.asarray(z, dtype=float)
-
-    def z_of(self, values):
-        span = np.where(self.hi > self.lo, self.hi - self.lo, 1.0)
-        return (np.asarray(values, dtype=float) - self.lo) / span
-
     def parameter_vector(self, phi_grid, f_scale, t_scales, g_scales):
         grid = np.asarray(phi_grid, dtype=float)
         full = np.empty(self.n_base + self.n_extra)
