@@ -549,7 +549,9 @@ def _certify_all(problem, feasible, method, options, rtol, max_rounds, n_dense):
     if not valid:  # every certification lost the design: report the best start as found
         cert = _Certifier(problem, method, options, rtol, max_rounds, n_dense)
         rep = reps[0]
-        return (rep, (), False, {}, cert, np.nan, ()), (), 0
+        checks, _, true_q = cert.checks(rep.design)
+        value, cvs = _final(problem, cert.tr, rep.design, true_q, n_dense)
+        return (rep, tuple(checks), False, true_q, cert, value, cvs), (), 0
     i_best, (_, chosen) = min(valid, key=lambda io: io[1][0])
     # distinct certified designs among the good outcomes, their true values
     rank0 = outcomes[i_best][0][0]
