@@ -1,0 +1,340 @@
+"""Kinetostatics of planar linkages: joint reactions and the balancing crank torque.
+
+Every moving body is in d'Alembert equilibrium: applied loads, joint reactions, the inertia force
+``-m a_S`` at its centre of mass and the inertia torque ``-J_S eps``. For a mechanism built from a
+crank and dyads the three equations of every body (forces in x and y, moment about the origin)
+form one square linear system per crank angle in the unknowns
+
+* the reaction of every revolute joint (two components),
+* the normal force and the moment of every prismatic pair (two numbers),
+* the balancing (driving) torque on the crank,
+
+and all angles are solved at once by one batched ``numpy.linalg.solve``.
+
+Conventions
+-----------
+A joint named ``"Rij"`` reports the force **on** body ``on`` **from** body ``by`` (N); the force on
+``by`` is its opposite. The frame is the body ``"frame"``. Moments and torques are
+counter-clockwise positive (N m). The balancing torque is the torque the frame (the drive) applies
+to the driving body so that it follows the given motion; its power ``T omega`` equals the rate of
+change of the kinetic energy minus the power of the applied loads.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..kinematics.tracks import Motion
+from .inertia import LinkInertia, com_track
+
+__all__ = [
+    "Revolute",
+    "Prismatic",
+    "ForceModel",
+    "ForceResult",
+    "kinetostatics",
+    "applied_power",
+    "kinetic_energy_rate",
+    "slider_crank_model",
+    "four_bar_model",
+]
+
+FRAME = "frame"
+
+
+@dataclass(frozen=True)
+class Revolute:
+    """Pin joint ``name`` at the motion point ``point`` between bodies ``on`` and ``by``."""
+
+    name: str
+    on: str
+    by: str
+    point: str
+
+
+@dataclass(frozen=True)
+class Prismatic:
+    """Sliding pair ``name`` between ``on`` and ``by``: the guide has the direction ``direction``
+    (a link name in ``motion.links`` whose angle it follows, or a constant angle in rad); the
+    normal force ``N`` acts along the guide's left normal through ``point`` together with a
+    moment ``M`` (how the pair spreads its pressure). Frictionless."""
+
+    name: str
+    on: str
+    by: str
+    point: str
+    direction: Any = 0.0
+
+
+@dataclass(frozen=True)
+class ForceModel:
+    """Bodies, joints, applied loads and the driving body of a mechanism.
+
+    Parameters
+    ----------
+    bodies : ``{name: LinkInertia}`` of every moving body (massless ones with mass 0).
+    joints : Revolute and Prismatic pairs; together with the drive they must give exactly
+        ``3 * len(bodies)`` unknowns.
+    loads : objects with ``contributions(motion, bodies) -> [Wrench]`` (see ``dynamics.loads``).
+    driver : the body that receives the balancing torque (the crank).
+    """
+
+    bodies: dict[str, LinkInertia]
+    joints: tuple
+    loads: tuple = ()
+    driver: str = "crank"
+
+    def __post_init__(self):
+        object.__setattr__(self, "joints", tuple(self.joints))
+        object.__setattr__(self, "loads", tuple(self.loads))
+        names = set(self.bodies)
+        if self.driver not in names:
+            raise ValueError(f"driver {self.driver!r} is not a body ({sorted(names)})")
+        for j in self.joints:
+            for b in (j.on, j.by):
+                if b != FRAME and b not in names:
+                    raise ValueError(f"joint {j.name} names an unknown body {b!r}")
+        n = 2 * len(self.joints) + 1
+        if n != 3 * len(self.bodies):
+            raise ValueError(
+                f"{len(self.joints)} joints and the drive give {n} unknowns, but "
+                f"{len(self.bodies)} bodies give {3 * len(self.bodies)} equations"
+            )
+
+    def replace_loads(self, loads) -> ForceModel:
+        return ForceModel(self.bodies, self.joints, tuple(loads), self.driver)
+
+    def with_body(self, name, body: LinkInertia) -> ForceModel:
+        """A copy with the mass properties of body ``name`` replaced."""
+        bodies = dict(self.bodies)
+        bodies[name] = body
+        return ForceModel(bodies, self.joints, self.loads, self.driver)
+
+
+@dataclass(frozen=True)
+class ForceResult:
+    """Reactions and balancing torque over the crank angles ``phi``.
+
+    Attributes
+    ----------
+    phi : crank angles (rad).
+    reactions : ``{joint: (fx, fy)}`` force on the joint's ``on`` body from its ``by`` body (N)
+        for revolute joints, and the normal force as a vector for prismatic pairs.
+    normals : ``{joint: (N, M)}`` normal force (N) and moment (N m) of prismatic pairs.
+    torque : balancing torque on the driving body (N m, counter-clockwise positive).
+    """
+
+    phi: Any
+    reactions: dict[str, tuple]
+    normals: dict[str, tuple]
+    torque: Any
+    omega: Any = None
+    extra: dict = field(default_factory=dict)
+
+    def magnitude(self, joint: str):
+        """Magnitude of the reaction at ``joint`` (N) at every angle."""
+        fx, fy = self.reactions[joint]
+        return np.hypot(fx, fy)
+
+    def peak(self, joint: str) -> tuple[float, float]:
+        """(largest magnitude in N, crank angle in rad where it occurs)."""
+        r = self.magnitude(joint)
+        i = int(np.argmax(r))
+        return float(r[i]), float(np.asarray(self.phi)[i])
+
+    def plot(self, joints=None, ax=None, angle=None, label=""):
+        """Reaction magnitudes against the crank angle (deg). ``angle`` maps phi to the plotted
+        angle (default: degrees of phi)."""
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(7, 4), constrained_layout=True)
+        x = np.rad2deg(np.asarray(self.phi)) if angle is None else angle(self.phi)
+        for j in joints or self.reactions:
+            ax.plot(x, self.magnitude(j), label=f"{j}{label}")
+        ax.set_xlabel("crank angle, deg")
+        ax.set_ylabel("reaction, N")
+        ax.grid(True, alpha=0.4)
+        ax.legend()
+        return ax.figure
+
+    def hodograph(self, joint: str, ax=None, label=None):
+        """Polar diagram (hodograph) of the reaction vector at ``joint``."""
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(5, 5), constrained_layout=True)
+        fx, fy = self.reactions[joint]
+        ax.plot(fx, fy, label=label or joint)
+        ax.plot([0], [0], "k+")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.set_xlabel(f"{joint} x, N")
+        ax.set_ylabel(f"{joint} y, N")
+        ax.grid(True, alpha=0.4)
+        ax.legend()
+        return ax.figure
+
+
+def _as(values, shape):
+    return np.broadcast_to(np.asarray(values, dtype=float), shape)
+
+
+def _direction(motion: Motion, direction, shape):
+    if isinstance(direction, str):
+        return _as(motion.links[direction].angle, shape)
+    return _as(direction, shape)
+
+
+def kinetostatics(model: ForceModel, motion: Motion) -> ForceResult:
+    """Solve the d'Alembert equilibrium of every body at every angle of ``motion``.
+
+    ``motion`` must be a time motion (``mechanism.motion(phi, speed=...)``). Returns a
+    :class:`ForceResult`. Raises ValueError where the system is singular (a toggle position or a
+    badly posed model), naming the first such angle.
+    """
+    phi = np.asarray(motion.phi, dtype=float)
+    shape = np.broadcast(phi, np.asarray(motion.points[next(iter(motion.points))].x)).shape
+    names = list(model.bodies)
+    row = {b: 3 * i for i, b in enumerate(names)}
+    n = 3 * len(names)
+    A = np.zeros(shape + (n, n))
+    f = np.zeros(shape + (n,))
+
+    # applied loads and inertia (known terms f: sum of known forces/moments on each body)
+    def add_known(body, fx, fy, x, y, tz):
+        r = row[body]
+        fx, fy = _as(fx, shape), _as(fy, shape)
+        f[..., r] += fx
+        f[..., r + 1] += fy
+        f[..., r + 2] += _as(x, shape) * fy - _as(y, shape) * fx + _as(tz, shape)
+
+    for name, body in model.bodies.items():
+        s = com_track(motion, body)
+        add_known(name, -body.mass * s.ax, -body.mass * s.ay, s.x, s.y, 0.0)
+        if body.link is not None:
+            add_known(name, 0.0, 0.0, 0.0, 0.0, -body.inertia * motion.links[body.link].epsilon)
+    for load in model.loads:
+        for w in load.contributions(motion, model.bodies):
+            add_known(w.body, w.fx, w.fy, w.x, w.y, w.tz)
+
+    # unknowns
+    for k, j in enumerate(model.joints):
+        c = 2 * k
+        p = motion.points[j.point]
+        x, y = _as(p.x, shape), _as(p.y, shape)
+        if isinstance(j, Revolute):
+            cols = ((1.0, 0.0, -y), (0.0, 1.0, x))  # unit Rx, unit Ry
+        elif isinstance(j, Prismatic):
+            th = _direction(motion, j.direction, shape)
+            nx, ny = -np.sin(th), np.cos(th)
+            cols = ((nx, ny, x * ny - y * nx), (0.0, 0.0, 1.0))
+        else:
+            raise ValueError(f"unknown joint type {type(j).__name__}")
+        for sign, body in ((1.0, j.on), (-1.0, j.by)):
+            if body == FRAME:
+                continue
+            r = row[body]
+            for dc, col in enumerate(cols):
+                for dr in range(3):
+                    A[..., r + dr, c + dc] += sign * _as(col[dr], shape)
+    A[..., row[model.driver] + 2, n - 1] = 1.0
+
+    try:
+        X = np.linalg.solve(A, -f[..., None])[..., 0]
+    except np.linalg.LinAlgError:
+        X = None
+    if X is None or not np.all(np.isfinite(X)):
+        cond = np.linalg.cond(A)
+        i = np.unravel_index(int(np.argmax(~np.isfinite(cond) | (cond > 1e14))), cond.shape)
+        raise ValueError(
+            "kinetostatics: singular equilibrium system at crank angle "
+            f"{np.rad2deg(np.broadcast_to(phi, shape)[i]):.6g} deg (toggle or ill-posed model)"
+        )
+    reactions, normals = {}, {}
+    for k, j in enumerate(model.joints):
+        a, b = X[..., 2 * k], X[..., 2 * k + 1]
+        if isinstance(j, Revolute):
+            reactions[j.name] = (a, b)
+        else:
+            th = _direction(motion, j.direction, shape)
+            reactions[j.name] = (-a * np.sin(th), a * np.cos(th))
+            normals[j.name] = (a, b)
+    return ForceResult(motion.phi, reactions, normals, X[..., n - 1], motion.omega)
+
+
+def _point_velocity(motion: Motion, body: LinkInertia, x, y):
+    """Velocity of the material point of ``body`` now at (x, y)."""
+    p = motion.points[body.base]
+    if body.link is None:
+        return p.vx, p.vy
+    w = motion.links[body.link].omega
+    return p.vx - w * (y - p.y), p.vy + w * (x - p.x)
+
+
+def applied_power(model: ForceModel, motion: Motion):
+    """Power (W) of the applied loads of ``model`` at every angle of ``motion``."""
+    total = 0.0
+    for load in model.loads:
+        for w in load.contributions(motion, model.bodies):
+            body = model.bodies[w.body]
+            vx, vy = _point_velocity(motion, body, w.x, w.y)
+            om = 0.0 if body.link is None else motion.links[body.link].omega
+            total = total + w.fx * vx + w.fy * vy + w.tz * om
+    return total
+
+
+def kinetic_energy_rate(model: ForceModel, motion: Motion):
+    """dT/dt (W) of the bodies: ``sum m v_S . a_S + J w eps``."""
+    total = 0.0
+    for body in model.bodies.values():
+        s = com_track(motion, body)
+        total = total + body.mass * (s.vx * s.ax + s.vy * s.ay)
+        if body.link is not None:
+            lk = motion.links[body.link]
+            total = total + body.inertia * lk.omega * lk.epsilon
+    return total
+
+
+def slider_crank_model(crank_body=None, rod_body=None, slider_body=None, loads=()) -> ForceModel:
+    """Force model of a :class:`~mechsynth.SliderCrank`: bodies ``crank`` (about O), ``rod``
+    (from A) and ``slider`` (at B); joints ``R10`` (frame on crank at O), ``R21`` (crank on rod
+    at A), ``R32`` (rod on slider at B) and the guide ``R30`` (frame on slider)."""
+    bodies = {
+        "crank": crank_body or LinkInertia("crank", "O", 0.0),
+        "rod": rod_body or LinkInertia("rod", "A", 0.0),
+        "slider": slider_body or LinkInertia(None, "B", 0.0),
+    }
+    joints = (
+        Revolute("R10", "crank", FRAME, "O"),
+        Revolute("R21", "rod", "crank", "A"),
+        Revolute("R32", "slider", "rod", "B"),
+        Prismatic("R30", "slider", FRAME, "B", 0.0),
+    )
+    return ForceModel(bodies, joints, tuple(loads), "crank")
+
+
+def four_bar_model(crank_body=None, coupler_body=None, rocker_body=None, loads=()) -> ForceModel:
+    """Force model of a :class:`~mechsynth.FourBar`: bodies ``crank`` (about O1), ``coupler``
+    (from A), ``rocker`` (about O2); joints ``R10`` (frame on crank at O1), ``R21`` (crank on
+    coupler at A), ``R32`` (coupler on rocker at B), ``R30`` (frame on rocker at O2)."""
+    bodies = {
+        "crank": crank_body or LinkInertia("crank", "O1", 0.0),
+        "coupler": coupler_body or LinkInertia("coupler", "A", 0.0),
+        "rocker": rocker_body or LinkInertia("rocker", "O2", 0.0),
+    }
+    joints = (
+        Revolute("R10", "crank", FRAME, "O1"),
+        Revolute("R21", "coupler", "crank", "A"),
+        Revolute("R32", "rocker", "coupler", "B"),
+        Revolute("R30", "rocker", FRAME, "O2"),
+    )
+    return ForceModel(bodies, joints, tuple(loads), "crank")
