@@ -50,6 +50,10 @@ class NailHeader(Mechanism):
     ``mu``, ``d`` and ``l_blank`` (mm). Ejector spring: ``m_n0`` (N m), ``c2`` (N m/rad).
     ``g`` gravity (m/s^2). ``counterweight`` (kg m): an extra crank counterweight moment
     ``m_cw r_cw`` opposite A, carried as ``counterweight / cw_radius`` kg at ``cw_radius``.
+    ``spring_sense=-1`` (default): the spring
+    moment ``M_n0 + c2 (phi5 - phi50)`` grows as the ejector turns away from its outer-dead-centre
+    angle and acts clockwise against it; ``+1`` is the paper's literal ``beta5 = phi50 - phi5``
+    acting counter-clockwise (which makes the twist negative over the whole cycle).
     """
 
     l_oa: float = 0.07
@@ -82,6 +86,7 @@ class NailHeader(Mechanism):
     g: float = G
     counterweight: float = 0.0
     cw_radius: float = 0.1
+    spring_sense: int = -1
 
     parameters: ClassVar[tuple[str, ...]] = ("l_oa", "l_ab", "m3", "counterweight")
     default_output: ClassVar[str] = "slider"
@@ -161,9 +166,10 @@ class NailHeader(Mechanism):
         return ops.where(vx >= -1e-9 * scale, f, 0.0 * f)
 
     def spring(self) -> TorsionSpring:
-        """Ejector spring ``M_n = M_n0 + c2 (phi50 - phi5)``, turning the ejector clockwise
-        (towards the slider, keeping the cam contact closed)."""
-        return TorsionSpring("ejector", "ejector", self.m_n0, self.c2, self.phi50, sense=-1)
+        """Ejector spring ``M_n = M_n0 + c2 beta5`` (see ``spring_sense``)."""
+        return TorsionSpring(
+            "ejector", "ejector", self.m_n0, self.c2, self.phi50, sense=self.spring_sense
+        )
 
     def force_model(self, gravity=True) -> ForceModel:
         """Bodies, joints and loads (gravity, upsetting force, ejector spring)."""

@@ -27,6 +27,10 @@ STUDIES: dict[str, tuple[str, str]] = {
         "mechsynth.studies.beam_pump",
         "Paper 000: axial vs desaxial Mark II-type pumping units; synthesis and Pareto front",
     ),
+    "nail-header": (
+        "mechsynth.studies.nail_header",
+        "Paper 003a: AB4115 nail-header reactions (Table 1) and the optimal slider mass",
+    ),
 }
 
 
