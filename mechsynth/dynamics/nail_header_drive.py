@@ -16,6 +16,7 @@ import numpy as np
 from ..kinematics.slider_crank import SliderCrank
 from .equation_of_motion import energy_stepping, steady_cycle
 from .inertia import LinkInertia
+from .loads import upsetting_force as _upsetting
 from .motor import InductionMotor
 from .reduced import reduced_model
 
@@ -27,9 +28,7 @@ RPM = np.pi / 30
 def upsetting_force(s_b, h=0.003, c1=571.0, sigma_t=850.0, mu=0.3, d=3.0, l_zag=20.0):
     """Upsetting force (N) at punch distance ``s_b`` (m) from the outer dead centre (paper 003):
     ``F_e = F_e0 + c1 l_e^4`` with ``l_e = 1e3 (h - s_B)`` mm, zero when ``s_B >= h``."""
-    f0 = sigma_t * (1 + mu * d / (3 * l_zag)) * np.pi * d * d / 4
-    le = 1e3 * (h - np.asarray(s_b, dtype=float))
-    return np.where(le > 0, f0 + c1 * np.maximum(le, 0.0) ** 4, 0.0)
+    return _upsetting(np.asarray(s_b, dtype=float), h, c1, sigma_t, mu, d, l_zag)
 
 
 def nail_header_drive(slider_mass=15.0, gear_ratio=2.4, n=720):
