@@ -212,6 +212,12 @@ def run(out=None, angles=1440, scan_step=0.5):
         f"{joint_out['counterweight_kg_m']:.4f} kg m, peak {joint_out['peak']:.0f} N "
         f"({joint_out['reduction_pct']:.1f} % below the 15 kg design)"
     )
+    lines.append(
+        " A crank counterweight changes only the crank bearing R10 (the crank turns uniformly), so "
+        "it cannot lower the peak set by R32/R21 at the optimal slider mass; it only trims R10 "
+        f"(R10 {joint_out['peaks']['R10']:.0f} N, R21 {joint_out['peaks']['R21']:.0f} N, "
+        f"R32 {joint_out['peaks']['R32']:.0f} N)."
+    )
     lines.append(f" run time {time.perf_counter() - t0:.1f} s")
 
     data = {
