@@ -4,6 +4,8 @@ import json
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from mechsynth.dynamics.kinetostatics import applied_power, kinetic_energy_rate, kinetostatics
 from mechsynth.dynamics.nail_header import NailHeader
@@ -53,3 +55,22 @@ def test_study_json_and_optimum(tmp_path):
     assert cw["peak"] <= data["optimal_slider_mass_train"]["peak"] * (1 + 1e-6)
     assert cw["peak_recomputed"] == pytest.approx(cw["peak"], rel=1e-4)
     assert all(p.exists() for p in r.files) and len(r.errata) >= 4
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    st.floats(1.0, 100.0),
+    st.floats(0.0, 50.0),
+    st.floats(0.0, 2.0),
+    st.floats(0.0, 0.05),
+    st.floats(0.0, 3.0),
+    st.sampled_from([1, -1]),
+)
+def test_power_balance_random_nail_headers(m3, m2, m5, j5, cw, sense):
+    nh = NailHeader(m3=m3, m2=m2, m5=m5, j_s5=j5, counterweight=cw, spring_sense=sense)
+    phi = PHI[(np.abs(np.sin(PHI)) > 1e-3)][::7]
+    m = nh.motion(phi, speed=nh.omega)
+    model = nh.force_model()
+    res = kinetostatics(model, m)
+    rhs = kinetic_energy_rate(model, m) - applied_power(model, m)
+    assert np.max(np.abs(res.torque * m.omega - rhs)) <= 1e-9 * np.max(np.abs(rhs))
