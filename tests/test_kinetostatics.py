@@ -102,3 +102,27 @@ def test_unknown_count_checked():
             (),
             "crank",
         )
+
+
+def test_casadi_geometry_slider_crank():
+    ca = pytest.importorskip("casadi")
+    a = ca.SX.sym("a")
+    phi = ms.cycle(12)
+
+    def torque(crank):
+        sc = ms.SliderCrank(crank=crank, rod=0.3)
+        model = slider_crank_model(
+            LinkInertia("crank", "O", 2.0, (0.01, 0.0), 0.01),
+            LinkInertia("rod", "A", 1.5, (0.1, 0.0), 0.02),
+            LinkInertia(None, "B", 3.0),
+            loads=[Gravity(), PointForce("slider", "B", lambda m: (-200.0, 0.0))],
+        )
+        return kinetostatics(model, sc.motion(phi, speed=20.0)).torque
+
+    f = ca.Function("f", [a], [torque(a), ca.jacobian(torque(a), a)])
+    val, jac = (np.asarray(v).ravel() for v in f(0.08))
+    np.testing.assert_allclose(val, torque(0.08), rtol=1e-10, atol=1e-9)
+    h = 1e-6
+    np.testing.assert_allclose(
+        jac, (torque(0.08 + h) - torque(0.08 - h)) / (2 * h), rtol=1e-5, atol=1e-4
+    )

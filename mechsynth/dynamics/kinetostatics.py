@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from ..kinematics import ops
 from ..kinematics.tracks import Motion
 from .inertia import LinkInertia, com_track
 
@@ -137,7 +138,7 @@ class ForceResult:
     def magnitude(self, joint: str):
         """Magnitude of the reaction at ``joint`` (N) at every angle."""
         fx, fy = self.reactions[joint]
-        return np.hypot(fx, fy)
+        return ops.hypot(fx, fy)
 
     def peak(self, joint: str) -> tuple[float, float]:
         """(largest magnitude in N, crank angle in rad where it occurs)."""
@@ -194,28 +195,23 @@ def _direction(motion: Motion, direction, shape):
     return _as(direction, shape)
 
 
-def kinetostatics(model: ForceModel, motion: Motion) -> ForceResult:
-    """Solve the d'Alembert equilibrium of every body at every angle of ``motion``.
-
-    ``motion`` must be a time motion (``mechanism.motion(phi, speed=...)``). Returns a
-    :class:`ForceResult`. Raises ValueError where the system is singular (a toggle position or a
-    badly posed model), naming the first such angle.
-    """
-    phi = np.asarray(motion.phi, dtype=float)
-    shape = np.broadcast(phi, np.asarray(motion.points[next(iter(motion.points))].x)).shape
+def _entries(model: ForceModel, motion: Motion):
+    """Sparse entries of the equilibrium system ``A X + f = 0``: ``{(row, col): value}`` and
+    ``{row: value}``, each value a per-angle array, a number or a CasADi expression."""
     names = list(model.bodies)
     row = {b: 3 * i for i, b in enumerate(names)}
     n = 3 * len(names)
-    A = np.zeros(shape + (n, n))
-    f = np.zeros(shape + (n,))
+    A: dict = {}
+    f: dict = {}
 
-    # applied loads and inertia (known terms f: sum of known forces/moments on each body)
+    def acc(d, key, value):
+        d[key] = d[key] + value if key in d else value
+
     def add_known(body, fx, fy, x, y, tz):
         r = row[body]
-        fx, fy = _as(fx, shape), _as(fy, shape)
-        f[..., r] += fx
-        f[..., r + 1] += fy
-        f[..., r + 2] += _as(x, shape) * fy - _as(y, shape) * fx + _as(tz, shape)
+        acc(f, r, fx)
+        acc(f, r + 1, fy)
+        acc(f, r + 2, x * fy - y * fx + tz)
 
     for name, body in model.bodies.items():
         s = com_track(motion, body)
@@ -225,17 +221,15 @@ def kinetostatics(model: ForceModel, motion: Motion) -> ForceResult:
     for load in model.loads:
         for w in load.contributions(motion, model.bodies):
             add_known(w.body, w.fx, w.fy, w.x, w.y, w.tz)
-
-    # unknowns
     for k, j in enumerate(model.joints):
         c = 2 * k
         p = motion.points[j.point]
-        x, y = _as(p.x, shape), _as(p.y, shape)
+        x, y = p.x, p.y
         if isinstance(j, Revolute):
             cols = ((1.0, 0.0, -y), (0.0, 1.0, x))  # unit Rx, unit Ry
         elif isinstance(j, Prismatic):
-            th = _direction(motion, j.direction, shape)
-            nx, ny = -np.sin(th), np.cos(th)
+            th = motion.links[j.direction].angle if isinstance(j.direction, str) else j.direction
+            nx, ny = -ops.sin(th), ops.cos(th)
             cols = ((nx, ny, x * ny - y * nx), (0.0, 0.0, 1.0))
         else:
             raise ValueError(f"unknown joint type {type(j).__name__}")
@@ -245,8 +239,75 @@ def kinetostatics(model: ForceModel, motion: Motion) -> ForceResult:
             r = row[body]
             for dc, col in enumerate(cols):
                 for dr in range(3):
-                    A[..., r + dr, c + dc] += sign * _as(col[dr], shape)
-    A[..., row[model.driver] + 2, n - 1] = 1.0
+                    if not (isinstance(col[dr], float) and col[dr] == 0.0):
+                        acc(A, (r + dr, c + dc), sign * col[dr])
+    acc(A, (row[model.driver] + 2, n - 1), 1.0)
+    return A, f, n
+
+
+def _solve_symbolic(A, f, n, motion):
+    """CasADi path: one symbolic linear solve per crank angle (column entry)."""
+    import casadi as ca
+
+    values = list(A.values()) + list(f.values()) + [motion.phi]
+    m = max((v.shape[0] if hasattr(v, "shape") and len(v.shape) else 1) for v in values)
+
+    def at(v, i):
+        if ops.is_symbolic(v):
+            return v[i] if v.shape[0] > 1 else v
+        v = np.asarray(v, dtype=float)
+        return float(v.ravel()[i]) if v.size > 1 else float(v)
+
+    rows = []
+    for i in range(m):
+        Ai = ca.SX(n, n)
+        fi = ca.SX(n, 1)
+        for (r, c), v in A.items():
+            Ai[r, c] = at(v, i)
+        for r, v in f.items():
+            fi[r] = at(v, i)
+        rows.append(ca.solve(Ai, -fi).T)
+    return ca.vertcat(*rows)  # m x n
+
+
+def kinetostatics(model: ForceModel, motion: Motion) -> ForceResult:
+    """Solve the d'Alembert equilibrium of every body at every angle of ``motion``.
+
+    ``motion`` must be a time motion (``mechanism.motion(phi, speed=...)``). Returns a
+    :class:`ForceResult`. Raises ValueError where the system is singular (a toggle position or a
+    badly posed model), naming the first such angle.
+
+    With CasADi symbols anywhere (design parameters, masses, loads) the same equations are
+    solved symbolically, one ``casadi.solve`` per crank angle; the result's arrays are then
+    CasADi columns over the angles, exactly differentiable.
+    """
+    A_ent, f_ent, n = _entries(model, motion)
+    if ops.is_symbolic(*A_ent.values(), *f_ent.values()):
+        X = _solve_symbolic(A_ent, f_ent, n, motion)
+        cols = [X[:, k] for k in range(n)]
+        reactions, normals = {}, {}
+        for k, j in enumerate(model.joints):
+            a, b = cols[2 * k], cols[2 * k + 1]
+            if isinstance(j, Revolute):
+                reactions[j.name] = (a, b)
+            else:
+                th = (
+                    motion.links[j.direction].angle if isinstance(j.direction, str) else j.direction
+                )
+                reactions[j.name] = (-a * ops.sin(th), a * ops.cos(th))
+                normals[j.name] = (a, b)
+        return ForceResult(motion.phi, reactions, normals, cols[n - 1], motion.omega)
+
+    phi = np.asarray(motion.phi, dtype=float)
+    shape = np.broadcast_shapes(
+        phi.shape, *(np.shape(v) for v in list(A_ent.values()) + list(f_ent.values()))
+    )
+    A = np.zeros(shape + (n, n))
+    f = np.zeros(shape + (n,))
+    for (r, c), v in A_ent.items():
+        A[..., r, c] = v
+    for r, v in f_ent.items():
+        f[..., r] = v
 
     try:
         X = np.linalg.solve(A, -f[..., None])[..., 0]

@@ -16,6 +16,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from ..dynamics.kinetostatics import kinetostatics
+from ..kinematics import ops
 from .base import CycleMeasure
 
 __all__ = ["peak_reaction", "peak_torque", "rms_torque", "reaction_affine_map"]
@@ -42,7 +43,10 @@ def peak_reaction(joints, model: Callable | None = None) -> CycleMeasure:
 
     def per_angle(mech, motion):
         res = kinetostatics(build(mech), motion)
-        return np.max([res.magnitude(j) for j in joints], axis=0)
+        out = res.magnitude(joints[0])
+        for j in joints[1:]:
+            out = ops.fmax(out, res.magnitude(j))
+        return out
 
     return CycleMeasure(f"peak reaction {'/'.join(joints)}", per_angle, "max", "N")
 
@@ -52,7 +56,7 @@ def peak_torque(model: Callable | None = None) -> CycleMeasure:
     build = _model_of(model)
     return CycleMeasure(
         "peak crank torque",
-        lambda mech, motion: np.abs(kinetostatics(build(mech), motion).torque),
+        lambda mech, motion: ops.fabs(kinetostatics(build(mech), motion).torque),
         "max",
         "N m",
     )
