@@ -1,6 +1,7 @@
 """Measures that reduce a mechanism's cycle to a number: objectives and constraints."""
 
 from .base import Combination, Constraint, CycleMeasure, Measure, ScalarMeasure, reduce_cycle
+from .forces import peak_reaction, peak_torque, reaction_affine_map, rms_torque
 from .kinematic import (
     KINEMATIC_MEASURES,
     grashof_margin,
@@ -31,3 +32,4 @@ __all__ += [
     "KINEMATIC_MEASURES",
 ]
 __all__ += ["peak_torque_factor", "PUMPING_MEASURES"]
+__all__ += ["peak_reaction", "peak_torque", "rms_torque", "reaction_affine_map"]
