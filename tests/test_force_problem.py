@@ -1,0 +1,19 @@
+"""Force measures in the Problem API: the slider mass of the nail header minimizing the peak R32
+by certified IPOPT (CasADi kinetostatics) equals the exact cvxpy minimax of the study."""
+
+import pytest
+
+import mechsynth as ms
+from mechsynth.dynamics import NailHeader
+from mechsynth.objectives.forces import peak_reaction
+from mechsynth.studies.nail_header import run
+
+
+def test_ipopt_slider_mass_matches_the_convex_minimax():
+    prob = ms.Problem(NailHeader, variables={"m3": (1.0, 200.0)}, speed=-ms.rpm(600), angles=48)
+    prob.minimize(peak_reaction("R32"))
+    res = prob.solve(starts=2)
+    assert res.success, res.message
+    study = run().data["optimal_slider_mass"]
+    assert res.design.m3 == pytest.approx(study["mass"], rel=2e-3)
+    assert res.value == pytest.approx(study["peak"], rel=1e-5)
