@@ -299,6 +299,9 @@ def run(out=None, n_angles=721, pareto_points=7, starts=3):
         "Eqs. (13)-(14) for U2', U3' are garbled in print (misplaced factor r and (U2 - 1) "
         "term); the acceleration here comes from the exact second analog of the dyad, checked "
         "against finite differences in the tests.",
+        "Eqs. (9) and (11) print U2 with the wrong sign (it is r sin(phi3 - phi1) / (l sin(phi2 - "
+        "phi3))), and (12) multiplies omega1^2 by U_i where U_i' belongs; corrected formulas in "
+        "mechsynth.kinematics.four_bar_formulas, tested against the dyads.",
     ]
     if not findings["peak_acceleration_drops_axial_2a_2b"]:
         errata.append(
