@@ -77,22 +77,15 @@ def polynomial_coefficients(i, e0):
 
 def printed_coefficients(i, e0):
     """The coefficients of eq. (4) exactly as printed in paper 004 (wrong for ``e0 != 0``), kept to
-    document the erratum; same layout as :func:`polynomial_coefficients`."""
-    i = np.asarray(i, dtype=float)
-    e0 = np.asarray(e0, dtype=float)
-    i2, e2 = i * i, e0 * e0
+    document the erratum; same layout as :func:`polynomial_coefficients`. They differ from the
+    derived ones in ``p3`` and ``p0`` only (see :data:`ERRATA`)."""
+    coeffs = polynomial_coefficients(i, e0)
+    i2 = np.asarray(i, dtype=float) ** 2
+    e2 = np.asarray(e0, dtype=float) ** 2
     i4 = i2 * i2
-    return np.stack(
-        np.broadcast_arrays(
-            1.0 - i2,
-            2.0 * e0 * (3.0 - i2),
-            i2 * (i2 - 1.0) + 15.0 * e2,
-            2.0 * e0 * (10.0 * e2 - e2 * i2 - i4 - 3.0 * i2),
-            i4 * (i2 - 1.0) + e2 * (15.0 * e2 + e2 * i2 - 2.0 * i4 - 12.0 * i2),
-            2.0 * e0 * (3.0 * e2 * e2 + 2.0 * i4 - 5.0 * e2 * i2),
-            i4 * (1.0 - i2) + e2 * (e2 - 3.0 * i4 - 3.0 * e2 * i2),
-        )
-    )
+    coeffs[3] = 2.0 * np.asarray(e0, dtype=float) * (10.0 * e2 - e2 * i2 - i4 - 3.0 * i2)
+    coeffs[6] = i4 * (1.0 - i2) + e2 * (e2 - 3.0 * i4 - 3.0 * e2 * i2)
+    return coeffs
 
 
 def velocity_analog(phi, i, e0):

@@ -186,4 +186,3 @@ class SliderCrank(Mechanism):
         from .extreme_velocity import extreme_velocity
 
         return extreme_velocity(self.crank, self.rod, self.offset)
-

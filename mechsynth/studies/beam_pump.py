@@ -159,15 +159,9 @@ def extremes(unit: BeamPumpingUnit, theta, speed, card):
 
 
 # ------------------------------------------------------------------------------ synthesis
-def synthesis_problem(base, pressure_limit=None, tf_limit=TF_LIMIT):
-    """Choose crank, pitman and the pivot position for the base beam and stroke: minimize the
-    peak polished-rod acceleration at 6 SPM subject to the stroke, a pressure-angle limit and a
-    torque-factor limit (Grashof full turn is added by the mechanism's feasibility hook).
-    ``pressure_limit`` in rad (default 30 deg), ``tf_limit`` in m/rad."""
+def _base_problem(base):
+    """Crank, pitman and pivot position of a Mark II-type unit on the base beam, at 6 SPM."""
     from ..synthesis import Problem
-
-    if pressure_limit is None:
-        pressure_limit = deg(PRESSURE_LIMIT_DEG)
 
     prob = Problem(
         BeamPumpingUnit,
@@ -180,6 +174,18 @@ def synthesis_problem(base, pressure_limit=None, tf_limit=TF_LIMIT):
         },
         speed=spm(SPEED_SPM),
     )
+    return prob
+
+
+def synthesis_problem(base, pressure_limit=None, tf_limit=TF_LIMIT):
+    """Choose crank, pitman and the pivot position for the base beam and stroke: minimize the
+    peak polished-rod acceleration at 6 SPM subject to the stroke, a pressure-angle limit and a
+    torque-factor limit (Grashof full turn is added by the mechanism's feasibility hook).
+    ``pressure_limit`` in rad (default 30 deg), ``tf_limit`` in m/rad."""
+    if pressure_limit is None:
+        pressure_limit = deg(PRESSURE_LIMIT_DEG)
+
+    prob = _base_problem(base)
     prob.minimize(peak_acceleration("slider"))
     prob.subject_to(
         stroke("slider") == base["H"],
@@ -193,20 +199,9 @@ def pareto(base, n=7, starts=3, anchor_starts=4):
     """Peak acceleration against maximum pressure angle (paper 000's recommendation 2) by
     :func:`~mechsynth.synthesis.pareto.pareto_front` (epsilon-constraint on the pressure angle,
     anchors included), for the base beam and stroke with the torque-factor limit."""
-    from ..synthesis import Problem
     from ..synthesis.pareto import pareto_front
 
-    prob = Problem(
-        BeamPumpingUnit,
-        variables=dict(SYNTHESIS_BOUNDS),
-        fixed={
-            "rear_arm": base["k"],
-            "front_arm": base["k1"],
-            "unit_class": "mark-ii",
-            "rotation": "ccw",
-        },
-        speed=spm(SPEED_SPM),
-    )
+    prob = _base_problem(base)
     prob.subject_to(stroke("slider") == base["H"], peak_torque_factor() <= TF_LIMIT)
     return pareto_front(
         prob,

@@ -22,6 +22,7 @@ from ..kinematics.extreme_velocity import (
     printed_coefficients,
     stroke_crank_angle,
     velocity_analog,
+    velocity_analog_derivative,
 )
 from ..units import dms, format_dms
 from . import StudyResult
@@ -107,8 +108,6 @@ def _numeric_extremes(i, e0):
 def _printed_root_error(i, e0):
     """Largest |s0'| (per crank length) at the real roots of the printed polynomial in [-1, 1],
     over both crank angles of each root: the printed roots are not extrema when it is large."""
-    from ..kinematics.extreme_velocity import velocity_analog_derivative
-
     roots = _real_roots(printed_coefficients(i, e0))
     u = roots.real[np.abs(roots.imag) < 1e-9]
     u = u[np.abs(u) <= 1.0]

@@ -701,6 +701,15 @@ def slider_crank_chart(
     )
 
 
+def pop_span(opts: dict, key: str, default: str) -> tuple[float, float]:
+    """Pop a chart option ``LOW:HIGH`` (a string, ``default`` when absent) as two floats."""
+    try:
+        lo, hi = (float(v) for v in opts.pop(key, default).split(":"))
+    except ValueError as exc:
+        raise ValueError(f"{key} must be LOW:HIGH, e.g. {default}") from exc
+    return lo, hi
+
+
 def chart_slider_crank(out, options):
     """``mechsynth chart slider-crank``: options stroke=0.1 (m), rpm=600, n=60 (grid points
     per axis), n_angles=360, rod_crank=1.5:8, offset_crank=0:2, pressure_limit_deg=30,
@@ -711,11 +720,7 @@ def chart_slider_crank(out, options):
     opts = dict(options)
 
     def span(key, default):
-        try:
-            lo, hi = (float(v) for v in opts.pop(key, default).split(":"))
-        except ValueError as exc:
-            raise ValueError(f"{key} must be LOW:HIGH, e.g. {default}") from exc
-        return lo, hi
+        return pop_span(opts, key, default)
 
     H = float(opts.pop("stroke", "0.1"))
     speed_rpm = float(opts.pop("rpm", "600"))

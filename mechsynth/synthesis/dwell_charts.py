@@ -142,12 +142,12 @@ def chart_dwell(out, options):
     """``mechsynth chart dwell``: options gamma_deg=0,20,40 tolerance=0.002 n=20 window_deg=90
     n_angles=360 r=0.05:0.5 k=0.3:2.5."""
     from ..report import StudyResult
+    from .charts import pop_span
 
     opts = dict(options)
 
     def span(key, default):
-        lo, hi = (float(v) for v in opts.pop(key, default).split(":"))
-        return lo, hi
+        return pop_span(opts, key, default)
 
     gammas = [float(v) for v in opts.pop("gamma_deg", "0,20,40").split(",")]
     tol = float(opts.pop("tolerance", "0.002"))

@@ -351,16 +351,13 @@ def chart_pareto_slider_crank(out, options):
     from ..objectives.kinematic import max_pressure_angle, peak_acceleration, stroke
     from ..report import StudyResult
     from ..units import rpm
+    from .charts import pop_span
     from .problem import Problem
 
     opts = dict(options)
 
     def span(key, default):
-        try:
-            lo, hi = (float(v) for v in opts.pop(key, default).split(":"))
-        except ValueError as exc:
-            raise ValueError(f"{key} must be LOW:HIGH (m), e.g. {default}") from exc
-        return lo, hi
+        return pop_span(opts, key, default)
 
     H = float(opts.pop("stroke", "0.1"))
     speed_rpm = float(opts.pop("rpm", "600"))
