@@ -166,3 +166,42 @@ def test_numpy_backend_chunks_large_batches(monkeypatch):
     res = four_bar_batch(a, b, c, d, PHI, backend="numpy")
     _, _, _, rck = FourBar(a[:, None], b[:, None], c[:, None], d[:, None]).jets(PHI)
     np.testing.assert_array_equal(res.rocker_omega, rck.d1)
+
+
+@needs_numba
+def test_kernels_run_the_models_own_code():
+    """The compiled chains are the model's functions (same code objects), not a second copy."""
+    from mechsynth.kinematics import blocks, scalar_ops
+    from mechsynth.kinematics.four_bar import four_bar_chain
+    from mechsynth.kinematics.slider_crank import slider_crank_chain
+
+    compiled._kernels()
+    assert compiled._FB_CHAIN.py_func.__code__ is four_bar_chain.__code__
+    assert compiled._SC_CHAIN.py_func.__code__ is slider_crank_chain.__code__
+    rrr = compiled._FB_CHAIN.py_func.__globals__["dyad_rrr"]
+    assert rrr.py_func.__code__ is blocks.dyad_rrr.__code__
+    assert rrr.py_func.__globals__["ops"] is scalar_ops
+    # every elementary function the blocks use exists in the scalar stand-in
+    from mechsynth.kinematics import ops
+
+    for name in ops.__all__:
+        if name != "is_symbolic":
+            assert hasattr(scalar_ops, name), name
+
+
+def test_cache_stamp_follows_the_code():
+    def f(x):
+        return x + 1.0
+
+    def g(x):
+        return x + 2.0
+
+    def f_again(x):
+        return x + 1.0
+
+    assert compiled._stamp([f]) != compiled._stamp([g])
+    assert compiled._stamp([f, g]) != compiled._stamp([g, f])
+    assert 0 <= compiled._stamp([f]) < 2**60
+    # same code in another function object: the stamp is of the code, not of the object
+    f_again.__code__ = f.__code__
+    assert compiled._stamp([f]) == compiled._stamp([f_again])

@@ -22,7 +22,7 @@ from ..errors import MechanismError
 from . import ops
 from .tracks import Jet, PointJet
 
-__all__ = ["crank", "dyad_rrr", "dyad_rrp", "dyad_rpr", "coupler_point", "link_angle"]
+__all__ = ["crank", "crank_pin", "dyad_rrr", "dyad_rrp", "dyad_rpr", "coupler_point", "link_angle"]
 
 # Relative round-off allowed in an assembly condition before it counts as violated.
 _ASSEMBLY_RTOL = 1e-12
@@ -68,8 +68,15 @@ def crank(phi, length, x0=0.0, y0=0.0, phase=0.0) -> PointJet:
 
     ``phi`` is the driving (generalized) coordinate: analogs are derivatives with respect to it.
     """
-    c = ops.cos(phi + phase)
-    s = ops.sin(phi + phase)
+    return crank_pin(ops.cos(phi + phase), ops.sin(phi + phase), length, x0, y0)
+
+
+def crank_pin(c, s, length, x0=0.0, y0=0.0) -> PointJet:
+    """Crank pin A from the crank's direction cosines ``c, s`` (cos and sin of its angle).
+
+    The form the batch kernels use: the sines and cosines of a crank-angle grid are computed once
+    for all designs.
+    """
     return PointJet(
         x0 + length * c, y0 + length * s, -length * s, length * c, -length * c, -length * s
     )
@@ -130,11 +137,10 @@ def dyad_rrr(p1: PointJet, p2: PointJet, l1, l2, branch=1, phi=None):
     h = branch * ops.sqrt(h2)
     cx = p1.x + a * dx - h * dy
     cy = p1.y + a * dy + h * dx
-    t1 = ops.arctan2(cy - p1.y, cx - p1.x)
-    t2 = ops.arctan2(cy - p2.y, cx - p2.x)
-    c1, s1 = ops.cos(t1), ops.sin(t1)
-    c2, s2 = ops.cos(t2), ops.sin(t2)
-    sin21 = ops.sin(t2 - t1)
+    # direction cosines of the links p1 -> C and p2 -> C, and sin(theta2 - theta1)
+    c1, s1 = (cx - p1.x) / l1, (cy - p1.y) / l1
+    c2, s2 = (cx - p2.x) / l2, (cy - p2.y) / l2
+    sin21 = s2 * c1 - c2 * s1
     # l1 w1 e1perp - l2 w2 e2perp = p2' - p1' (rhs); dot with e2 and e1 to separate.
     rx, ry = p2.dx - p1.dx, p2.dy - p1.dy
     w1 = (rx * c2 + ry * s2) / (l1 * sin21)
@@ -152,6 +158,8 @@ def dyad_rrr(p1: PointJet, p2: PointJet, l1, l2, branch=1, phi=None):
         p1.ddx - l1 * e1 * s1 - l1 * w1 * w1 * c1,
         p1.ddy + l1 * e1 * c1 - l1 * w1 * w1 * s1,
     )
+    t1 = ops.arctan2(cy - p1.y, cx - p1.x)
+    t2 = ops.arctan2(cy - p2.y, cx - p2.x)
     return c, Jet(t1, w1, e1), Jet(t2, w2, e2)
 
 

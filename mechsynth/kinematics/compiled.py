@@ -12,12 +12,16 @@ Backends
     :mod:`~mechsynth.kinematics.blocks`), evaluated in chunks of designs to bound memory.
 ``"numba"``
     Compiled kernels (``numba.njit(parallel=True)``, no ``fastmath``, so IEEE semantics are
-    kept), one loop over designs (``prange``) and crank angles. The kernels are a scalar
-    transcription of the same block formulas (crank + RRR dyad; crank + RRP dyad and
-    :func:`~mechsynth.kinematics.blocks.link_angle`), with ``cos``/``sin`` of the link angles
-    taken as direction cosines instead of from ``arctan2``; the tests check them against the
-    numpy model to 1e-12 on random designs. The crank angles' sines and cosines are computed
-    once for the whole batch. The number of threads is numba's (``numba.set_num_threads``).
+    kept), one loop over designs (``prange``) and crank angles, built from the model itself:
+    the chain functions :func:`~mechsynth.kinematics.four_bar.four_bar_chain` and
+    :func:`~mechsynth.kinematics.slider_crank.slider_crank_chain` and the blocks they call
+    (:func:`~mechsynth.kinematics.blocks.crank_pin`, ``dyad_rrr``, ``dyad_rrp``, ``link_angle``)
+    are compiled from their own code with ``ops`` rebound to the scalar
+    :mod:`~mechsynth.kinematics.scalar_ops`. There is no second copy of the formulas; the tests
+    check the kernels against the numpy model to 1e-12 on random designs. The crank angles'
+    sines and cosines are computed once for the whole batch. The number of threads is numba's
+    (``numba.set_num_threads``). The compiled code is cached on disk, keyed on the model's
+    bytecode, so an edited model is recompiled (a few seconds, once).
 ``"auto"`` (default)
     ``"numba"`` when numba can be imported, else ``"numpy"``.
 
@@ -39,14 +43,17 @@ Examples
 
 from __future__ import annotations
 
+import hashlib
+import marshal
 import math
+import types
 from dataclasses import dataclass
 from functools import cache
 
 import numpy as np
 
-from .four_bar import FourBar
-from .slider_crank import SliderCrank
+from .four_bar import FourBar, four_bar_chain
+from .slider_crank import SliderCrank, slider_crank_chain
 
 __all__ = [
     "FourBarBatch",
@@ -283,125 +290,93 @@ def _scaled(cls, out, speed, backend):
 
 
 # ------------------------------------------------------------------------------- kernels
-# atan on [-tan(pi/8)-ish, 0.66]: the rational approximation of Cephes' atan (S. L. Moshier),
-# accurate to a few units in the last place over the reduced range.
-_P = (
-    -8.750608600031904122785e-1,
-    -1.615753718733365076637e1,
-    -7.500855792314704667340e1,
-    -1.228866684490136173410e2,
-    -6.485021904942025371773e1,
-)
-_Q = (
-    2.485846490142306297962e1,
-    1.650270098316988542046e2,
-    4.328810604912902668951e2,
-    4.853903996359136964868e2,
-    1.945506571482613964425e2,
-)
-_MOREBITS = 6.123233995736765886130e-17  # pi/2 - float(pi/2)
+def _twin(fn, namespace, jit):
+    """``fn``'s own code, compiled, with the global names in ``namespace`` rebound."""
+    g = dict(fn.__globals__)
+    g.update(namespace)
+    twin = types.FunctionType(fn.__code__, g, fn.__name__, fn.__defaults__, fn.__closure__)
+    twin.__kwdefaults__ = fn.__kwdefaults__
+    twin.__doc__ = fn.__doc__
+    return jit(twin)
+
+
+def _stamp(functions) -> int:
+    """A 60-bit digest of the functions' code (bytecode, constants, names)."""
+    h = hashlib.sha256()
+    for fn in functions:
+        h.update(marshal.dumps(getattr(fn, "py_func", fn).__code__))
+    return int(h.hexdigest()[:15], 16)
+
+
+# The compiled chains and rows live in module globals (set by _kernels): numba keys its on-disk
+# cache on the bytecode and the *closure* of a function, so the kernels close over nothing but
+# the model's stamp, and a changed model is recompiled instead of loaded stale from the cache.
+_FB_CHAIN = _SC_CHAIN = _FB_ROW = _SC_ROW = None
 
 
 @cache
 def _kernels():
-    """Compile (once per process; cached on disk) the four-bar and slider-crank kernels.
+    """Compile (once per process, cached on disk) the four-bar and slider-crank kernels.
 
-    ``error_model="numpy"`` makes a division by zero give inf/nan instead of raising (the
-    designs that could reach one are sent to the numpy model beforehand), which lets LLVM
-    vectorize the angle loop. ``atan2`` is written out branch-free (the libm call would not
-    vectorize); it agrees with ``numpy.arctan2`` to 2 ulp, away from the signed zeros.
+    The model's chain functions (:func:`four_bar_chain`, :func:`slider_crank_chain`) and the
+    blocks they call are compiled from their own code, with ``ops`` rebound to
+    :mod:`~mechsynth.kinematics.scalar_ops` and the assembly checks to its no-raise stand-ins:
+    there is no second copy of the formulas. ``error_model="numpy"`` makes a division by zero
+    give inf/nan instead of raising (the designs that could reach one are sent to the numpy
+    model beforehand), which lets LLVM vectorize the loop over crank angles.
     """
+    global _FB_CHAIN, _SC_CHAIN, _FB_ROW, _SC_ROW
     import numba
 
-    p0, p1, p2, p3, p4 = _P
-    q0, q1, q2, q3, q4 = _Q
-    more = _MOREBITS
-    pio4, pio2, pi = math.pi / 4, math.pi / 2, math.pi
-    jit = numba.njit(error_model="numpy", cache=True, inline="always")
-    jit_par = numba.njit(error_model="numpy", cache=True, parallel=True)
+    from . import blocks, scalar_ops
 
-    @jit
-    def atan2(y, x):
-        ax, ay = abs(x), abs(y)
-        swap = ay > ax
-        big = ay if swap else ax
-        small = ax if swap else ay
-        r = small / (big if big > 0.0 else 1.0)  # in [0, 1]
-        red = r > 0.66
-        u = (r - 1.0 if red else r) / (r + 1.0 if red else 1.0)
-        z = u * u
-        p = (((p0 * z + p1) * z + p2) * z + p3) * z + p4
-        q = ((((z + q0) * z + q1) * z + q2) * z + q3) * z + q4
-        a = u + u * (z * p / q)
-        a = (pio4 + (a + 0.5 * more)) if red else a
-        a = (pio2 - a + more) if swap else a
-        a = (pi - a + 2.0 * more) if x < 0.0 else a
-        return -a if y < 0.0 else a
+    jit = numba.njit(error_model="numpy", inline="always")
+    jit_cached = numba.njit(error_model="numpy", cache=True)
+    jit_par = numba.njit(error_model="numpy", parallel=True, cache=True)
+    ns = {
+        "ops": scalar_ops,
+        "_check_nonnegative": scalar_ops.check_nonnegative,
+        "_check_toggle": scalar_ops.check_toggle,
+    }
+    model = [blocks.link_angle, blocks.crank_pin, blocks.dyad_rrr, blocks.dyad_rrp]
+    for fn in model:
+        ns[fn.__name__] = _twin(fn, ns, jit)
+    _FB_CHAIN = _twin(four_bar_chain, ns, jit)
+    _SC_CHAIN = _twin(slider_crank_chain, ns, jit)
+    model += [four_bar_chain, slider_crank_chain]
+    model += [v for v in vars(scalar_ops).values() if hasattr(v, "py_func")]
+    stamp = _stamp(model)
 
-    @jit_par
-    def four_bar_kernel(a_, b_, c_, d_, cphi, sphi, sigma, out):
-        n, m = a_.shape[0], cphi.shape[0]
-        for i in numba.prange(n):
-            a, l1, l2, d = a_[i], b_[i], c_[i], d_[i]
-            for j in range(m):
-                cp, sp = cphi[j], sphi[j]
-                # crank pin A (its analogs are (-a sp, a cp) and -A)
-                ax, ay = a * cp, a * sp
-                # RRR dyad A-B-O2 (blocks.dyad_rrr with p1 = A, p2 = O2 fixed)
-                dx, dy = d - ax, -ay
-                dd = dx * dx + dy * dy
-                frac = (l1 * l1 - l2 * l2 + dd) / (2.0 * dd)
-                h2 = l1 * l1 / dd - frac * frac
-                h = sigma * math.sqrt(h2 if h2 > 0.0 else 0.0)
-                cx = ax + frac * dx - h * dy
-                cy = ay + frac * dy + h * dx
-                u1x, u1y = cx - ax, cy - ay  # coupler A -> B
-                u2x, u2y = cx - d, cy  # rocker O2 -> B
-                c1, s1 = u1x / l1, u1y / l1
-                c2, s2 = u2x / l2, u2y / l2
-                sin21 = s2 * c1 - c2 * s1
-                rx, ry = a * sp, -a * cp  # O2' - A'
-                w1 = (rx * c2 + ry * s2) / (l1 * sin21)
-                w2 = (rx * c1 + ry * s1) / (l2 * sin21)
-                rx2 = ax + l1 * w1 * w1 * c1 - l2 * w2 * w2 * c2
-                ry2 = ay + l1 * w1 * w1 * s1 - l2 * w2 * w2 * s2
-                out[0, i, j] = atan2(u2y, u2x)
-                out[1, i, j] = w2
-                out[2, i, j] = (rx2 * c1 + ry2 * s1) / (l2 * sin21)
-                out[3, i, j] = atan2(u1y, u1x)
-                out[4, i, j] = w1
-                out[5, i, j] = (rx2 * c2 + ry2 * s2) / (l1 * sin21)
+    # One design's row of angles per call: the chain is inlined into this serial loop (which
+    # LLVM vectorizes); the parallel loop over designs only calls it.
+    @jit_cached
+    def four_bar_row(a, b, c, d, cphi, sphi, sigma, out, i):
+        for j in range(cphi.shape[0]):
+            _, _, cpl, rck = _FB_CHAIN(cphi[j], sphi[j], a, b, c, d, sigma)
+            out[0, i, j], out[1, i, j], out[2, i, j] = rck
+            out[3, i, j], out[4, i, j], out[5, i, j] = cpl
+        return stamp
+
+    @jit_cached
+    def slider_crank_row(a, b, e, cphi, sphi, out, i):
+        for j in range(cphi.shape[0]):
+            _, _, x, rod = _SC_CHAIN(cphi[j], sphi[j], a, b, e)
+            out[0, i, j], out[1, i, j], out[2, i, j] = x
+            out[3, i, j], out[4, i, j], out[5, i, j] = rod
+        return stamp
+
+    _FB_ROW, _SC_ROW = four_bar_row, slider_crank_row
 
     @jit_par
-    def slider_crank_kernel(a_, b_, e_, cphi, sphi, out):
-        n, m = a_.shape[0], cphi.shape[0]
-        for i in numba.prange(n):
-            a, b, e = a_[i], b_[i], e_[i]
-            for j in range(m):
-                cp, sp = cphi[j], sphi[j]
-                ax, ay = a * cp, a * sp
-                adx, ady = -a * sp, a * cp
-                addx, addy = -ax, -ay
-                # RRP dyad on the guide y = e, direction +x, branch +1 (blocks.dyad_rrp)
-                hgt = ay - e
-                w2 = b * b - hgt * hgt
-                w = math.sqrt(w2)
-                w_1 = -hgt * ady / w
-                w_2 = -(ady * ady + hgt * addy) / w - (hgt * ady) ** 2 / (w * w2)
-                s0, s1, s2 = ax + w, adx + w_1, addx + w_2
-                # rod angle A -> B (blocks.link_angle)
-                ux, uy = s0 - ax, e - ay
-                dux, duy = s1 - adx, -ady
-                ddux, dduy = s2 - addx, -addy
-                r2 = ux * ux + uy * uy
-                cross1 = ux * duy - uy * dux
-                out[0, i, j] = s0
-                out[1, i, j] = s1
-                out[2, i, j] = s2
-                out[3, i, j] = atan2(uy, ux)
-                out[4, i, j] = cross1 / r2
-                out[5, i, j] = (ux * dduy - uy * ddux) / r2 - cross1 * 2.0 * (
-                    ux * dux + uy * duy
-                ) / (r2 * r2)
+    def four_bar_kernel(a, b, c, d, cphi, sphi, sigma, out):
+        for i in numba.prange(a.shape[0]):
+            _FB_ROW(a[i], b[i], c[i], d[i], cphi, sphi, sigma, out, i)
+        return stamp
 
-    return four_bar_kernel, slider_crank_kernel, atan2
+    @jit_par
+    def slider_crank_kernel(a, b, e, cphi, sphi, out):
+        for i in numba.prange(a.shape[0]):
+            _SC_ROW(a[i], b[i], e[i], cphi, sphi, out, i)
+        return stamp
+
+    return four_bar_kernel, slider_crank_kernel, scalar_ops.arctan2

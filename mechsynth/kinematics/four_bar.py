@@ -19,13 +19,28 @@ from typing import ClassVar
 import numpy as np
 
 from . import ops
-from .blocks import coupler_point, crank, dyad_rrr
+from .blocks import coupler_point, crank_pin, dyad_rrr
 from .mechanism import Mechanism, check_length, fail_where, speed_pair
 from .tracks import Jet, LinkTrack, Motion, PointJet, PointTrack
 
-__all__ = ["FourBar", "Grashof", "grashof"]
+__all__ = ["FourBar", "Grashof", "grashof", "four_bar_chain"]
 
 _BRANCHES = {"open": 1, "crossed": -1}
+
+
+def four_bar_chain(c, s, crank, coupler, rocker, ground, sigma, phi=None):
+    """The four-bar as a chain of blocks: crank pin A, then the RRR dyad A-B-O2.
+
+    ``c, s`` are the crank's direction cosines (cos and sin of the crank angle), ``sigma`` the
+    branch (+1 open, -1 crossed); ``phi`` (the angles themselves) only locates assembly errors.
+    Returns the jets of A and B and the angle jets of coupler and rocker. This one function is
+    what :meth:`FourBar.jets` evaluates and what the compiled batch kernels are built from.
+    """
+    a = crank_pin(c, s, crank)
+    zero = 0.0 * a.x
+    o2 = PointJet(ground + zero, zero, zero, zero, zero, zero)
+    b, cpl, rck = dyad_rrr(a, o2, coupler, rocker, sigma, phi=phi)
+    return a, b, cpl, rck
 
 
 @dataclass(frozen=True)
@@ -185,10 +200,16 @@ class FourBar(Mechanism):
     # ---------------------------------------------------------------- kinematics
     def jets(self, phi):
         """Jets of A and B and angle jets of coupler and rocker."""
-        a = crank(phi, self.crank)
-        o2 = PointJet.fixed(self.ground + 0.0 * a.x, 0.0 * a.x)
-        b, coupler, rocker = dyad_rrr(a, o2, self.coupler, self.rocker, self.sigma, phi=phi)
-        return a, b, coupler, rocker
+        return four_bar_chain(
+            ops.cos(phi),
+            ops.sin(phi),
+            self.crank,
+            self.coupler,
+            self.rocker,
+            self.ground,
+            self.sigma,
+            phi,
+        )
 
     def motion(self, phi, speed=None, epsilon=0.0, coupler_points=None) -> Motion:
         """Motion over crank angles ``phi`` (rad).

@@ -16,11 +16,24 @@ from typing import ClassVar
 import numpy as np
 
 from . import ops
-from .blocks import coupler_point, crank, dyad_rrp
+from .blocks import coupler_point, crank_pin, dyad_rrp
 from .mechanism import Mechanism, check_finite, check_length, fail_where, speed_pair
 from .tracks import Jet, LinkTrack, Motion, PointJet, PointTrack, SliderTrack
 
-__all__ = ["SliderCrank"]
+__all__ = ["SliderCrank", "slider_crank_chain"]
+
+
+def slider_crank_chain(c, s, crank, rod, offset, phi=None):
+    """The offset slider-crank as a chain of blocks: crank pin A, then the RRP dyad A-B on the
+    guide ``y = offset`` (direction +x, slider ahead of the foot of A).
+
+    ``c, s`` are the crank's direction cosines; ``phi`` only locates assembly errors. Returns the
+    jets of A and B, of the slider position (x of B) and of the rod angle. This one function is
+    what :meth:`SliderCrank.jets` evaluates and what the compiled batch kernels are built from.
+    """
+    a = crank_pin(c, s, crank)
+    b, x, rod_angle = dyad_rrp(a, rod, 0.0, offset, 0.0, 1, phi)
+    return a, b, x, rod_angle
 
 
 @dataclass(frozen=True)
@@ -80,9 +93,9 @@ class SliderCrank(Mechanism):
     # ---------------------------------------------------------------- kinematics
     def jets(self, phi):
         """Jets of the crank pin A, the slider B, the slider position and the rod angle."""
-        a = crank(phi, self.crank)
-        b, s, rod = dyad_rrp(a, self.rod, 0.0, self.offset, 0.0, branch=1, phi=phi)
-        return a, b, s, rod
+        return slider_crank_chain(
+            ops.cos(phi), ops.sin(phi), self.crank, self.rod, self.offset, phi
+        )
 
     def motion(self, phi, speed=None, epsilon=0.0, coupler_points=None) -> Motion:
         """Motion over crank angles ``phi`` (rad).
