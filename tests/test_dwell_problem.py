@@ -45,7 +45,7 @@ def de_result():
 
 @pytest.fixture(scope="module")
 def study_result():
-    return study.run(tolerance=TOL, stroke=STROKE, n=6, dense=8)
+    return study.run(tolerance=TOL, stroke=STROKE, n=(7, 8, 9), starts=4, dense=(7, 9, 13), local=5)
 
 
 def test_de_runs_without_casadi_and_is_not_called_optimal(de_result):
@@ -76,24 +76,26 @@ def test_problem_values_equal_the_study_metrics_at_the_design(de_result):
 
 
 def test_agrees_with_the_study_search(de_result, study_result):
+    """The study (global grid over r, k, gamma -> refinement -> certificate) and differential
+    evolution agree on the longest dwell: measured 111 deg (study, small grids) and 109 deg (DE,
+    seed 0); DE runs of this budget reach 108-112 deg depending on the seed, so the study may not
+    be worse than DE by more than one angle step nor better by more than 2 deg + one step."""
     best = study_result.data["best"]
-    assert study_result.data["success"]
+    assert study_result.data["success"] and study_result.data["certificate"]["passed"]
     # the study's optimum is feasible for the Problem, with the same value
     vals = _problem().evaluate(
         {"r": best["r"], "k": best["k"], "gamma": np.deg2rad(best["gamma_deg"])}, n=N
     )
     assert np.rad2deg(vals["dwell"]) == pytest.approx(best["dwell_deg"], abs=1e-9)
     assert vals["S_max"] >= STROKE
-    # the global search is not worse than the chart-seeded local search (within one step)
     dwell_de = np.rad2deg(de_result.value)
-    assert dwell_de >= best["dwell_deg"] - STEP_DEG
-    # and the study's refinement started at the DE design gains at most two angle steps: the
-    # two searches agree on this optimum within the grid resolution
+    assert -STEP_DEG <= best["dwell_deg"] - dwell_de <= 2.0 + STEP_DEG
+    # the study's refinement started at the DE design keeps it feasible and never loses dwell
     v = de_result.variables
-    refined, _ = study.pattern_search(
-        (v["r"], v["k"], np.rad2deg(v["gamma"])), TOL, STROKE, n_angles=N
-    )
-    assert refined["dwell_deg"] <= dwell_de + 2 * STEP_DEG + 1e-9
+    start = (v["r"], v["k"], np.rad2deg(v["gamma"]))
+    refined = study.refine([start], TOL, STROKE, step=(0.015, 0.05, 2.5), min_scale=0.25).best
+    assert refined["S_max"] >= STROKE
+    assert dwell_de <= refined["dwell_deg"] <= best["dwell_deg"] + 2.0 + STEP_DEG
 
 
 def test_window_deviation_measure_with_de():

@@ -70,7 +70,7 @@ class LineFit:
         return 2.0 * self.deviation
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _hull_width(px, py):
     """Minimum width (2E) of a point set: monotone-chain hull, then the widest vertex per edge."""
     n = px.size
@@ -120,7 +120,7 @@ def _hull_width(px, py):
     return best if best < np.inf else 0.0
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _window_ok(px, py, i, j, width):
     """True if samples i .. j-1 of the doubled curve fit a band of ``width``."""
     if j - i <= 2:
@@ -150,7 +150,7 @@ def _window_ok(px, py, i, j, width):
     return _hull_width(px[i:j], py[i:j]) <= width
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _longest_windows(x, y, width):
     """Two-pointer sweep per design (rows of x, y): (start, count) of the longest cyclic run."""
     nd, n = x.shape
@@ -177,7 +177,7 @@ def _longest_windows(x, y, width):
     return start, count
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _best_fixed_windows(x, y, count):
     """Per design: the smallest minimax width (2E) over all cyclic windows of ``count`` samples,
     and the start index where it is attained."""

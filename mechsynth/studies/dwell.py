@@ -3,84 +3,326 @@ dwell.
 
 Problem: find (r, k, gamma) maximizing the dwell duration alpha_Sigma subject to a dwell accuracy
 (half-width E <= tolerance, lengths relative to the rod) and a relative stroke S_max >= a required
-stroke of link 5. The dwell metrics are not smooth (the window length is an integer number of
-samples), so the search is: a coarse chart grid (seed) -> a compass pattern search from the seed
-at the full angular resolution (refinement) -> a dense (r, k) grid at the best gamma (certificate).
+stroke of link 5, over the box ``R_BOUNDS`` x ``K_BOUNDS`` x ``G_BOUNDS``.
+
+The dwell metrics are not smooth (the window length is an integer number of crank-angle samples,
+and the longest window can jump from one part of the coupler curve to another), and the feasible
+optimum lies on narrow ridges of the (r, k, gamma) box. So the search is:
+
+1. *global grid* — every design of a coarse grid over all three variables, at 360 crank angles;
+2. *refinement* — from the best few distinct grid designs, a neighbourhood search at 720 crank
+   angles: each round evaluates the 26 neighbours ``p + h * {-1, 0, 1}^3`` of every start (one
+   batch), moves to the best one when it is better, else halves ``h``;
+3. *certificate* — every design of an independent grid over the whole box (all of r, k and gamma,
+   720 angles) and of a dense local grid around the result, which passes only when the result is
+   feasible and no grid design is longer by more than one angle step.
+
+Design ordering everywhere: a feasible design (S_max >= stroke) ranks by its dwell, an infeasible
+one below every feasible one by its stroke shortfall; equal dwells rank by the larger S_max.
 """
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from ..kinematics.dwell import DwellSliderCrank
-from ..objectives.dwell import dwell_window, relative_stroke
-from ..synthesis.dwell_charts import dwell_chart_data
+from ..objectives.dwell import dwell_window, dwell_windows, relative_stroke
 from . import StudyResult
 
 R_BOUNDS = (0.05, 0.5)
 K_BOUNDS = (0.3, 2.5)
 G_BOUNDS = (-60.0, 60.0)
+LOWER = np.array([R_BOUNDS[0], K_BOUNDS[0], G_BOUNDS[0]])
+UPPER = np.array([R_BOUNDS[1], K_BOUNDS[1], G_BOUNDS[1]])
+NAMES = ("r", "k", "gamma_deg")
+FIELDS = ("dwell_deg", "phi_L_deg", "deviation", "xi_deg", "S_max")
+
+# the 26 neighbours of a point of a 3-D grid
+_NEIGHBOURS = np.stack(np.meshgrid(*[[-1.0, 0.0, 1.0]] * 3, indexing="ij"), -1).reshape(-1, 3)
+_NEIGHBOURS = _NEIGHBOURS[np.any(_NEIGHBOURS != 0.0, axis=1)]
+
+
+def _check_positive(name, value):
+    value = float(value)
+    if not np.isfinite(value) or value <= 0:
+        raise ValueError(f"{name} must be positive, got {value}")
+    return value
+
+
+def _check_counts(name, value, minimum):
+    """Grid points per axis: an int for all three axes or three ints (r, k, gamma)."""
+    counts = np.broadcast_to(np.asarray(value, dtype=int), (3,))
+    if np.any(counts < minimum):
+        raise ValueError(f"{name} (grid points per axis) must be >= {minimum}, got {value}")
+    return tuple(int(c) for c in counts)
+
+
+def evaluate_batch(points, tolerance, n_angles=720, workers=1, chunk=256):
+    """Dwell metrics of many designs.
+
+    Parameters
+    ----------
+    points : array (m, 3) of designs ``(r, k, gamma_deg)``; lengths relative to the rod, gamma in
+        degrees (counter-clockwise from AB to AC).
+    tolerance : admitted half-width E of the dwell band, relative to the rod.
+    n_angles : crank angles per cycle (uniform, from 0); the dwell is quantized to 360/n_angles deg.
+    workers : threads evaluating chunks of ``chunk`` designs (the window sweep releases the GIL).
+
+    Returns
+    -------
+    dict of arrays (m,): ``dwell_deg``, ``phi_L_deg`` (start of the window), ``deviation`` (E of
+    the window's minimax line), ``xi_deg`` (its slope) and ``S_max`` (stroke of link 5 with the
+    slot along that line).
+    """
+    p = np.asarray(points, dtype=float).reshape(-1, 3)
+    phi = np.arange(n_angles) * 2 * np.pi / n_angles
+
+    def block(q):
+        m = DwellSliderCrank(r=q[:, 0:1], k=q[:, 1:2], gamma=np.deg2rad(q[:, 2:3]))
+        x, y = np.broadcast_arrays(*m.coupler_curve(phi))
+        w = dwell_windows(phi, x, y, tolerance)
+        s = relative_stroke(x, y, w["xi"][:, None])
+        deg = np.rad2deg
+        return np.column_stack([deg(w["dwell"]), deg(w["phi_L"]), w["deviation"], deg(w["xi"]), s])
+
+    parts = np.array_split(p, max(1, -(-len(p) // int(chunk))))
+    if int(workers) > 1 and len(parts) > 1:
+        with ThreadPoolExecutor(max_workers=int(workers)) as pool:
+            cols = np.concatenate(list(pool.map(block, parts)))
+    else:
+        cols = np.concatenate([block(q) for q in parts])
+    return dict(zip(FIELDS, cols.T))
 
 
 def evaluate(r, k, gamma_deg, tolerance, n_angles=720):
-    """Dwell metrics of one design: dict with dwell_deg, phi_L_deg, deviation, xi_deg, S_max."""
-    phi = np.arange(n_angles) * 2 * np.pi / n_angles
-    m = DwellSliderCrank(r, k, np.deg2rad(gamma_deg))
-    x, y = m.coupler_curve(phi)
-    w = dwell_window(phi, x, y, tolerance)
-    return {
-        "r": float(r),
-        "k": float(k),
-        "gamma_deg": float(gamma_deg),
-        "phi_L_deg": float(np.rad2deg(w.phi_L)),
-        "dwell_deg": float(np.rad2deg(w.dwell)),
-        "deviation": float(w.deviation),
-        "xi_deg": float(np.rad2deg(w.xi)),
-        "S_max": float(relative_stroke(x, y, w.xi)),
-    }
+    """Dwell metrics of one design: dict with r, k, gamma_deg, phi_L_deg, dwell_deg, deviation
+    (E, relative to the rod), xi_deg and S_max (see :func:`evaluate_batch`)."""
+    m = evaluate_batch([[r, k, gamma_deg]], tolerance, n_angles)
+    design = {"r": float(r), "k": float(k), "gamma_deg": float(gamma_deg)}
+    design.update({f: float(m[f][0]) for f in FIELDS})
+    return design
 
 
-def _score(d, stroke):
-    """Dwell (deg) when the stroke constraint holds, else a penalty below every feasible value."""
-    short = stroke - d["S_max"]
-    return d["dwell_deg"] if short <= 0 else -1000.0 * short
+def score(dwell_deg, s_max, stroke):
+    """Dwell (deg) where the stroke constraint holds, else a penalty below every feasible value."""
+    short = stroke - np.asarray(s_max)
+    return np.where(short <= 0, dwell_deg, -1000.0 * short)
 
 
-def _inside(p):
-    return (
-        R_BOUNDS[0] <= p[0] <= R_BOUNDS[1]
-        and K_BOUNDS[0] <= p[1] <= K_BOUNDS[1]
-        and (G_BOUNDS[0] <= p[2] <= G_BOUNDS[1])
+def _argbest(key, s_max, axis=None):
+    """Index of the best design: the largest key, ties broken by the larger S_max."""
+    top = np.max(key, axis=axis, keepdims=True)
+    return np.argmax(np.where(key == top, s_max, -np.inf), axis=axis)
+
+
+def _design(points, metrics, i):
+    d = dict(zip(NAMES, map(float, points[i])))
+    d.update({f: float(metrics[f][i]) for f in FIELDS})
+    return d
+
+
+def _grid(lower, upper, counts):
+    axes = [np.linspace(lo, hi, c) for lo, hi, c in zip(lower, upper, counts)]
+    return np.stack(np.meshgrid(*axes, indexing="ij"), -1).reshape(-1, 3)
+
+
+@dataclass(frozen=True)
+class Stage:
+    """One stage of the search: its best design, evaluation count and crank-angle resolution."""
+
+    name: str
+    best: dict
+    evaluations: int
+    n_angles: int
+    detail: dict
+
+    def as_dict(self):
+        return {
+            "name": self.name,
+            "best": self.best,
+            "evaluations": self.evaluations,
+            "n_angles": self.n_angles,
+            **self.detail,
+        }
+
+
+def grid_stage(tolerance, stroke, n=(16, 23, 25), starts=6, n_angles=360, workers=1):
+    """Global stage: the coarse grid ``n`` (points on r, k, gamma, bounds included) at
+    ``n_angles``; returns the Stage and the ``starts`` best distinct designs (array (s, 3)),
+    best first. Designs closer than two grid cells (in every variable) to a better chosen one or
+    to its mirror image (gamma -> -gamma, which has the same dwell: the mirrored curve is run
+    backwards) are skipped, so the starts lie on different ridges; infeasible designs are not
+    chosen."""
+    n = _check_counts("n", n, 2)
+    pts = _grid(LOWER, UPPER, n)
+    m = evaluate_batch(pts, tolerance, n_angles, workers)
+    key = score(m["dwell_deg"], m["S_max"], stroke)
+    cell = (UPPER - LOWER) / (np.array(n) - 1)
+    free = key >= 0
+    chosen = []
+    while len(chosen) < int(starts) and free.any():
+        i = int(_argbest(np.where(free, key, -np.inf), m["S_max"]))
+        chosen.append(i)
+        for twin in (pts[i], pts[i] * [1.0, 1.0, -1.0]):
+            free &= np.max(np.abs(pts - twin) / cell, axis=1) > 2.0
+    best = _design(pts, m, int(_argbest(key, m["S_max"])))
+    detail = {"grid": list(n), "feasible": int(np.count_nonzero(key >= 0)), "starts": len(chosen)}
+    return Stage("global grid", best, len(pts), n_angles, detail), pts[chosen]
+
+
+def refine(starts, tolerance, stroke, step, min_scale=1 / 64, n_angles=720, workers=1, rounds=200):
+    """Neighbourhood search from every start at once (vectorized over starts).
+
+    Parameters
+    ----------
+    starts : array (s, 3) of designs ``(r, k, gamma_deg)``.
+    step : initial step ``h`` per variable (r, k, gamma_deg).
+    min_scale : a start stops when its step has been halved below ``min_scale * step``.
+    rounds : cap on the rounds (each round evaluates 26 neighbours of every active start).
+
+    Returns
+    -------
+    Stage with the best design found (at ``n_angles``) and the number of evaluations.
+    """
+    p = np.array(starts, dtype=float, ndmin=2)
+    step = np.asarray(step, dtype=float)
+    m = evaluate_batch(p, tolerance, n_angles, workers)
+    key = score(m["dwell_deg"], m["S_max"], stroke)
+    s_max = m["S_max"].copy()
+    scale = np.ones(len(p))
+    nfev = len(p)
+    for _ in range(int(rounds)):
+        act = np.flatnonzero(scale >= min_scale)
+        if act.size == 0:
+            break
+        q = p[act, None, :] + _NEIGHBOURS[None] * (step * scale[act, None])[:, None, :]
+        q = np.clip(q, LOWER, UPPER)
+        mq = evaluate_batch(q.reshape(-1, 3), tolerance, n_angles, workers)
+        nfev += q.shape[0] * q.shape[1]
+        kq = score(mq["dwell_deg"], mq["S_max"], stroke).reshape(q.shape[:2])
+        sq = mq["S_max"].reshape(q.shape[:2])
+        j = _argbest(kq, sq, axis=1).ravel()
+        rows = np.arange(act.size)
+        kb, sb = kq[rows, j], sq[rows, j]
+        better = (kb > key[act]) | ((kb == key[act]) & (sb > s_max[act]))
+        moved = act[better]
+        p[moved] = q[rows, j][better]
+        key[moved], s_max[moved] = kb[better], sb[better]
+        scale[act[~better]] *= 0.5
+    i = int(_argbest(key, s_max))
+    best = evaluate(*p[i], tolerance, n_angles)
+    detail = {"starts": len(p), "step": step.tolist(), "min_scale": float(min_scale)}
+    return Stage("refinement", best, nfev, n_angles, detail)
+
+
+@dataclass(frozen=True)
+class Certificate:
+    """Grid certificate of a design over the whole (r, k, gamma) box.
+
+    Attributes
+    ----------
+    design : the design tested, re-evaluated at ``n_angles``.
+    grid_best : the best design of the two grids (dict as :func:`evaluate`).
+    box_grid : points on r, k, gamma of the grid over the whole box (bounds included).
+    local_grid : points per axis of the local grid, spanning ``local_half_width`` (r, k,
+        gamma_deg) about the design, clipped to the box.
+    evaluations : designs evaluated.
+    slack_deg : admitted shortfall of the design's dwell: one angle step, 360 / n_angles deg.
+    feasible : the design meets E <= tolerance and S_max >= stroke.
+    passed : feasible and ``design dwell >= grid_best dwell - slack_deg``.
+    """
+
+    design: dict
+    grid_best: dict
+    box_grid: tuple
+    local_grid: int
+    local_half_width: tuple
+    n_angles: int
+    evaluations: int
+    slack_deg: float
+    feasible: bool
+    passed: bool
+
+    @property
+    def margin_deg(self) -> float:
+        """Design dwell minus the best grid dwell (deg); >= -slack_deg when passed."""
+        return self.design["dwell_deg"] - self.grid_best["dwell_deg"]
+
+    def as_dict(self):
+        return {
+            "box_grid": list(self.box_grid),
+            "box": {"r": list(R_BOUNDS), "k": list(K_BOUNDS), "gamma_deg": list(G_BOUNDS)},
+            "local_grid": self.local_grid,
+            "local_half_width": list(self.local_half_width),
+            "n_angles": self.n_angles,
+            "evaluations": self.evaluations,
+            "best_dwell_deg": self.grid_best["dwell_deg"],
+            "grid_best": self.grid_best,
+            "design_dwell_deg": self.design["dwell_deg"],
+            "margin_deg": self.margin_deg,
+            "slack_deg": self.slack_deg,
+            "feasible": self.feasible,
+            "passed": self.passed,
+        }
+
+
+def certify(
+    r, k, gamma_deg, tolerance, stroke, dense=(13, 17, 25), local=9, n_angles=720, workers=1
+):
+    """Test a design against every design of a grid over the whole box and of a local grid.
+
+    Parameters
+    ----------
+    r, k, gamma_deg : the design (relative lengths, bend in degrees).
+    tolerance, stroke : E <= tolerance and S_max >= stroke (relative to the rod).
+    dense : points on r, k, gamma of the box grid (an int for all three), bounds included.
+    local : points per axis of the local grid, which spans one box-grid cell on each side of the
+        design (clipped to the box).
+    n_angles : crank angles of every evaluation.
+
+    Returns
+    -------
+    Certificate; it fails when a grid design is longer than the design by more than one angle
+    step, or when the design is infeasible.
+    """
+    tolerance = _check_positive("tolerance", tolerance)
+    stroke = _check_positive("stroke", stroke)
+    dense = _check_counts("dense", dense, 2)
+    local = _check_counts("local", local, 2)[0]
+    centre = np.array([r, k, gamma_deg], dtype=float)
+    if not np.all((centre >= LOWER) & (centre <= UPPER)):
+        raise ValueError(f"design (r, k, gamma_deg) = {tuple(centre)} is outside the box")
+    half = (UPPER - LOWER) / (np.array(dense) - 1)
+    pts = np.concatenate(
+        [
+            _grid(LOWER, UPPER, dense),
+            _grid(np.maximum(centre - half, LOWER), np.minimum(centre + half, UPPER), (local,) * 3),
+        ]
     )
-
-
-def pattern_search(seed, tolerance, stroke, steps=(0.02, 0.05, 4.0), min_step=0.02, n_angles=720):
-    """Compass search (r, k, gamma_deg) maximizing the dwell with the stroke constraint; returns
-    (best design dict, number of evaluations)."""
-    p = np.array(seed, dtype=float)
-    best = evaluate(*p, tolerance, n_angles)
-    f = _score(best, stroke)
-    h = np.array(steps, dtype=float)
-    scale = 1.0
-    nfev = 1
-    while scale >= min_step:
-        improved = False
-        for i in range(3):
-            for sgn in (1.0, -1.0):
-                q = p.copy()
-                q[i] += sgn * h[i] * scale
-                if not _inside(q):
-                    continue
-                d = evaluate(*q, tolerance, n_angles)
-                nfev += 1
-                fq = _score(d, stroke)
-                if fq > f:
-                    p, f, best, improved = q, fq, d, True
-        if not improved:
-            scale *= 0.5
-    return best, nfev
+    m = evaluate_batch(pts, tolerance, n_angles, workers)
+    grid_best = _design(
+        pts, m, int(_argbest(score(m["dwell_deg"], m["S_max"], stroke), m["S_max"]))
+    )
+    design = evaluate(*centre, tolerance, n_angles)
+    feasible = design["S_max"] >= stroke and design["deviation"] <= tolerance
+    slack = 360.0 / n_angles
+    passed = bool(feasible and design["dwell_deg"] >= grid_best["dwell_deg"] - slack - 1e-9)
+    return Certificate(
+        design,
+        grid_best,
+        dense,
+        local,
+        tuple(half.tolist()),
+        int(n_angles),
+        len(pts),
+        slack,
+        bool(feasible),
+        passed,
+    )
 
 
 def _draw(best, tolerance, out: Path):
@@ -137,60 +379,91 @@ def _draw(best, tolerance, out: Path):
     return path
 
 
-def run(out=None, tolerance=0.002, stroke=0.3, n=10, dense=20):
-    """Synthesize the longest-dwell linkage for half-width ``tolerance`` and stroke ``stroke``."""
-    tolerance, stroke = float(tolerance), float(stroke)
-    if tolerance <= 0 or stroke <= 0:
-        raise ValueError(f"tolerance ({tolerance}) and stroke ({stroke}) must be positive")
-    n, dense = int(n), int(dense)
-    gammas = np.linspace(G_BOUNDS[0], G_BOUNDS[1], 7)
-    chart = dwell_chart_data(
-        np.linspace(*R_BOUNDS, n), np.linspace(*K_BOUNDS, n), gammas, tolerance, 90.0, 360
+def _line(d):
+    return (
+        f"r={d['r']:.4f} k={d['k']:.4f} gamma={d['gamma_deg']:.2f} deg, "
+        f"dwell {d['dwell_deg']:.1f} deg, S_max={d['S_max']:.4f}"
     )
-    score = np.where(chart.S_max >= stroke, chart.dwell_deg, -np.inf)
-    if not np.isfinite(score.max()):
-        summary = f"no design on the seed grid reaches the stroke {stroke:g} l"
-        return StudyResult("dwell", summary, {"tolerance": tolerance, "success": False})
-    gi, ki, ri = np.unravel_index(int(np.argmax(score)), score.shape)
-    seed = (chart.r[ri], chart.k[ki], chart.gamma_deg[gi])
-    seed_design = evaluate(*seed, tolerance)
-    best, nfev = pattern_search(seed, tolerance, stroke)
-    # certificate: dense (r, k) grid at the best bend, full angular resolution
-    cert = dwell_chart_data(
-        np.linspace(*R_BOUNDS, dense),
-        np.linspace(*K_BOUNDS, dense),
-        [best["gamma_deg"]],
-        tolerance,
-        90.0,
-        720,
+
+
+def run(
+    out=None,
+    tolerance=0.002,
+    stroke=0.3,
+    n=(16, 23, 25),
+    starts=6,
+    dense=(13, 17, 25),
+    local=9,
+    min_scale=1 / 64,
+    workers=2,
+):
+    """Synthesize the longest-dwell linkage for half-width ``tolerance`` and stroke ``stroke``.
+
+    Parameters
+    ----------
+    out : directory for the figure ``dwell_best.png`` (None: no figure).
+    tolerance, stroke : E <= tolerance, S_max >= stroke (relative to the rod).
+    n : points on r, k, gamma of the global grid (360 angles; an int for all three axes).
+    starts : distinct grid designs refined at 720 angles.
+    dense, local : the certificate's box grid and local grid (see :func:`certify`).
+    min_scale : the refinement stops when its step is below ``min_scale`` of a global-grid
+        half-cell.
+    workers : threads for the batch evaluations.
+
+    Returns
+    -------
+    StudyResult; ``data`` holds ``best``, ``seed`` (the best global-grid design at 720 angles),
+    ``stages``, ``evaluations``, ``certificate`` and ``success``.
+    """
+    tolerance = _check_positive("tolerance", tolerance)
+    stroke = _check_positive("stroke", stroke)
+    n = _check_counts("n", n, 2)
+    if int(starts) < 1:
+        raise ValueError(f"starts must be >= 1, got {starts}")
+    global_stage, start_points = grid_stage(tolerance, stroke, n, starts, 360, workers)
+    data = {"tolerance": tolerance, "stroke": stroke, "stages": [global_stage.as_dict()]}
+    if len(start_points) == 0:
+        summary = f"no design on the global grid {n} reaches the stroke {stroke:g} l"
+        data.update(success=False, evaluations=global_stage.evaluations)
+        return StudyResult("dwell", summary, data)
+    g = global_stage.best
+    seed = evaluate(g["r"], g["k"], g["gamma_deg"], tolerance)
+    step = 0.5 * (UPPER - LOWER) / (np.array(n) - 1)
+    stage2 = refine(start_points, tolerance, stroke, step, min_scale, 720, workers)
+    best = stage2.best
+    cert = certify(
+        best["r"], best["k"], best["gamma_deg"], tolerance, stroke, dense, local, 720, workers
     )
-    cscore = np.where(cert.S_max >= stroke, cert.dwell_deg, -np.inf)
-    cbest = float(cscore.max())
     success = best["S_max"] >= stroke and best["deviation"] <= tolerance
-    certified = best["dwell_deg"] >= cbest - 1e-9
-    data = {
-        "tolerance": tolerance,
-        "stroke": stroke,
-        "best": best,
-        "seed": seed_design,
-        "evaluations": nfev,
-        "certificate": {"dense_grid": dense, "best_dwell_deg": cbest, "passed": bool(certified)},
-        "success": bool(success),
-    }
+    data.update(
+        best=best,
+        seed=seed,
+        evaluations=global_stage.evaluations + stage2.evaluations,
+        certificate=cert.as_dict(),
+        success=bool(success),
+    )
+    data["stages"].append(stage2.as_dict())
     files = []
     if out is not None:
         out = Path(out)
         out.mkdir(parents=True, exist_ok=True)
         files.append(_draw(best, tolerance, out))
+    cb = cert.grid_best
     summary = "\n".join(
         [
-            f"Dwell synthesis: E <= {tolerance:g} l, S_max >= {stroke:g} l",
-            f"seed (grid {n}x{n}x{gammas.size}): dwell {seed_design['dwell_deg']:.1f} deg",
-            f"best: r={best['r']:.4f} k={best['k']:.4f} gamma={best['gamma_deg']:.2f} deg, "
-            f"dwell {best['dwell_deg']:.1f} deg from phi_L={best['phi_L_deg']:.1f} deg, "
-            f"E={best['deviation']:.4g} l, xi={best['xi_deg']:.2f} deg, S_max={best['S_max']:.4f}",
-            f"certificate: best of a {dense}x{dense} grid at this gamma {cbest:.1f} deg "
-            f"({'passed' if certified else 'NOT passed'})",
+            f"Dwell synthesis: E <= {tolerance:g} l, S_max >= {stroke:g} l, r in {R_BOUNDS}, "
+            f"k in {K_BOUNDS}, gamma in {G_BOUNDS} deg",
+            f"1. global grid {n[0]}x{n[1]}x{n[2]} (r, k, gamma), 360 angles, "
+            f"{global_stage.evaluations} designs: best {_line(g)}; "
+            f"{seed['dwell_deg']:.1f} deg at 720 angles",
+            f"2. refinement from {stage2.detail['starts']} distinct grid designs, 720 angles, "
+            f"{stage2.evaluations} designs: best {_line(best)}",
+            f"best: dwell {best['dwell_deg']:.1f} deg from phi_L={best['phi_L_deg']:.1f} deg, "
+            f"E={best['deviation']:.4g} l, xi={best['xi_deg']:.2f} deg",
+            f"3. certificate: {cert.box_grid[0]}x{cert.box_grid[1]}x{cert.box_grid[2]} grid over "
+            f"the whole box + {local}^3 local grid, 720 angles, {cert.evaluations} designs: "
+            f"best {_line(cb)}; margin {cert.margin_deg:+.1f} deg "
+            f"(slack {cert.slack_deg:g}) -> {'passed' if cert.passed else 'NOT passed'}",
         ]
     )
     return StudyResult("dwell", summary, data, files)
