@@ -1,72 +1,338 @@
-"""Speed fluctuation of the AB4115 nail-header drive (paper 003 data, paper 001 method).
+"""Speed fluctuation of the AB4115 nail header driven by an induction motor (paper 003's machine,
+paper 001's method).
 
-The crank train of the nail header (crank OA, rod AB, punch-slider B; the light ejector rocker is
-left out) with the masses of paper 003, the upsetting force ``F_e = F_e0 + c1 l_e^4`` acting on
-the punch while it upsets (the last ``h`` = 3 mm before the outer dead centre, punch advancing),
-driven by an induction motor. The motor is not given in the paper: a representative 4 kW,
-1440/1500 rpm motor with overload ratio 2.2 is used, geared by U = 2.4 so that the rated motor
-speed gives 600 rpm at the crank. Modelled here as a counter-clockwise crank (the clockwise turn of
-the paper is the mirror image and gives the same speed fluctuation).
+The machine is :class:`~mechsynth.dynamics.nail_header.NailHeader` itself: its bodies (crank with
+the centre of mass beyond O and any counterweight, rod, punch-slider, ejector rocker) come from
+``NailHeader.force_model()`` and its loads (upsetting force while the punch advances, ejector
+spring, gravity) are reduced to the crank through the general kinetostatics' power function
+``applied_power``. Nothing of the machine is restated here, so any ``NailHeader`` (another slider
+mass, a counterweight, another spring) gets its own speed fluctuation.
+
+Conventions
+-----------
+The machine turns clockwise (``NailHeader.omega < 0``). The reduced model is written in the
+machine's own coordinate: the **clockwise** crank angle ``theta = -phi`` (rad) from the outer dead
+centre and the crank speed ``w = d theta / dt > 0`` (rad/s). Reduced moments are positive when
+they drive the crank clockwise, forward. Then
+
+* ``J(theta) = 2 T / w^2`` (kg m^2), ``T`` the kinetic energy of the bodies: the same for either
+  sense of rotation, but ``dJ/dtheta = -dJ/dphi``;
+* ``M(theta) = P_applied / w`` (N m), ``P_applied`` the power of the loads computed on the
+  machine's real motion ``NailHeader.motion(-theta, speed=NailHeader.omega)``, so that the
+  upsetting force acts where the punch really advances (the last ``h`` before the outer dead
+  centre, ``theta`` just below ``2 pi``), not on the mirror-image stroke an analog motion in
+  ``phi`` would pick. The loads' magnitudes do not depend on the speed, only on the sense of
+  motion, so ``M`` is a function of ``theta`` alone;
+* the kinetostatic balancing torque (counter-clockwise positive) of ``NailHeader.forces`` at
+  constant speed is ``T_b = M(theta) - J'(theta) w^2 / 2`` (power balance, tested).
+
+The upsetting force jumps from 0 to ``F_e0`` (about 6.1 kN) at the first contact, so ``M`` jumps
+too: ``M`` is tabulated on a fine grid that holds the two sides of the contact angle (found by
+bisection on ``NailHeader.upsetting``) and interpolated linearly, as the run-time moment of the
+:class:`~mechsynth.dynamics.reduced.ReducedModel`; ``J`` is its Hermite spline with the exact
+derivative.
+
+Motor: the paper gives none. The default is a representative 4 kW induction motor (rated
+1440 rpm, synchronous 1500 rpm, breakdown/rated torque 2.2, Kloss), gear losses ignored, with the
+gear ratio chosen so that the motor's static characteristic carries the mean load torque at the
+header's speed ``n1`` (600 rpm).
 """
 
 from __future__ import annotations
 
+import dataclasses
+from dataclasses import dataclass
+
 import numpy as np
+from scipy.optimize import brentq
 
-from ..kinematics.slider_crank import SliderCrank
 from .equation_of_motion import energy_stepping, steady_cycle
-from .inertia import LinkInertia
-from .loads import upsetting_force as _upsetting
+from .inertia import kinetic_energy, reduced_inertia
+from .kinetostatics import applied_power
 from .motor import InductionMotor
-from .reduced import reduced_model
+from .nail_header import NailHeader
+from .reduced import ReducedModel
 
-__all__ = ["nail_header_drive", "nail_header_speed_fluctuation", "upsetting_force"]
+__all__ = [
+    "MOTOR_ASSUMPTION",
+    "TabulatedMoment",
+    "check_header",
+    "crank_speed",
+    "reduced_load_moments",
+    "reduced_load_moment",
+    "nail_header_inertia",
+    "kinetic_energy_at_speed",
+    "load_table",
+    "contact_angles",
+    "mean_load_torque",
+    "default_motor",
+    "nail_header_drive",
+    "nail_header_speed_fluctuation",
+]
 
 RPM = np.pi / 30
+TWO_PI = 2 * np.pi
+
+MOTOR_ASSUMPTION = {
+    "rated_power_W": 4000.0,
+    "rated_rpm": 1440.0,
+    "sync_rpm": 1500.0,
+    "overload_ratio": 2.2,
+    "gear_efficiency": 1.0,
+    "note": (
+        "paper 003 gives no motor: a representative 4 kW, 1440/1500 rpm induction motor "
+        "(Kloss, breakdown/rated torque 2.2), gear losses ignored; the gear ratio is chosen so "
+        "that the motor carries the mean load torque at 600 rpm"
+    ),
+}
+
+_LOAD_NAMES = {"Gravity": "gravity", "TorsionSpring": "spring"}
 
 
-def upsetting_force(s_b, h=0.003, c1=571.0, sigma_t=850.0, mu=0.3, d=3.0, l_zag=20.0):
-    """Upsetting force (N) at punch distance ``s_b`` (m) from the outer dead centre (paper 003):
-    ``F_e = F_e0 + c1 l_e^4`` with ``l_e = 1e3 (h - s_B)`` mm, zero when ``s_B >= h``."""
-    return _upsetting(np.asarray(s_b, dtype=float), h, c1, sigma_t, mu, d, l_zag)
+@dataclass(frozen=True)
+class TabulatedMoment:
+    """Periodic, piecewise-linear reduced moment ``M(theta)`` (N m) over one turn.
+
+    ``theta`` (rad) strictly increasing from 0 to ``2 pi``; calling it with ``(theta, omega)``
+    returns the interpolated moment (``omega`` is ignored: the table depends on position only).
+    """
+
+    theta: np.ndarray
+    moment: np.ndarray
+
+    def __post_init__(self):
+        t = np.asarray(self.theta, dtype=float)
+        m = np.asarray(self.moment, dtype=float)
+        if t.ndim != 1 or t.shape != m.shape or t.size < 4:
+            raise ValueError(
+                f"theta and moment must be 1-D of one length >= 4, got {t.shape}, {m.shape}"
+            )
+        if np.any(np.diff(t) <= 0) or abs(t[0]) > 0 or abs(t[-1] - TWO_PI) > 1e-12:
+            raise ValueError("theta must increase strictly from 0 to 2 pi")
+        if not np.all(np.isfinite(m)):
+            raise ValueError("moment must be finite")
+        object.__setattr__(self, "theta", t)
+        object.__setattr__(self, "moment", m)
+
+    def __call__(self, theta, omega=None):
+        return np.interp(np.mod(np.asarray(theta, dtype=float), TWO_PI), self.theta, self.moment)
+
+    @property
+    def work(self) -> float:
+        """Work of the loads over one turn (J), exact for the piecewise-linear table."""
+        return float(np.trapezoid(self.moment, self.theta))
 
 
-def nail_header_drive(slider_mass=15.0, gear_ratio=2.4, n=720):
-    """Reduced model and motor of the nail-header drive; returns ``(model, motor)``."""
-    sc = SliderCrank(crank=0.07, rod=0.24)
-    bodies = [
-        LinkInertia("crank", "O", 72.0, (0.0057, 0.0), 4.24),
-        LinkInertia("rod", "A", 12.0, (0.05, 0.0), 0.543),
-        LinkInertia(None, "B", float(slider_mass)),
-    ]
-    top = sc.crank + sc.rod
+def check_header(header=None, slider_mass=None) -> NailHeader:
+    """The header to analyse: ``header`` (default ``NailHeader()``) with the slider mass
+    replaced by ``slider_mass`` (kg) when given."""
+    if header is None:
+        header = NailHeader()
+    if not isinstance(header, NailHeader):
+        raise ValueError(f"header must be a NailHeader, got {type(header).__name__}: {header!r}")
+    if slider_mass is not None:
+        header = dataclasses.replace(header, m3=float(slider_mass))
+    if not header.n1 > 0:
+        raise ValueError(f"header speed n1 must be positive (rpm), got {header.n1}")
+    return header
 
-    def upsetting_moment(phi):
-        b = sc.motion(phi).points["B"]
-        f = upsetting_force(top - b.x) * (b.vx > 0)  # only while the punch advances
-        return -f * b.vx
 
-    model = reduced_model(sc, bodies, n=n, phi_loads=[upsetting_moment])
-    motor = InductionMotor.from_catalogue(
-        4000.0, 1440 * RPM, 1500 * RPM, 2.2, gear_ratio=gear_ratio, efficiency=1.0
+def crank_speed(header: NailHeader) -> float:
+    """The machine's crank speed ``w = -NailHeader.omega > 0`` (rad/s, clockwise)."""
+    return -float(header.omega)
+
+
+def _machine_motion(header, theta):
+    return header.motion(-np.atleast_1d(np.asarray(theta, dtype=float)), speed=header.omega)
+
+
+def _load_name(load):
+    return getattr(load, "name", None) or _LOAD_NAMES.get(type(load).__name__, type(load).__name__)
+
+
+def reduced_load_moments(header: NailHeader, theta) -> dict[str, np.ndarray]:
+    """Reduced moment (N m, positive driving the clockwise crank) of every load of
+    ``header.force_model()`` at clockwise crank angles ``theta`` (rad): ``{"upsetting", "spring",
+    "gravity"}``, each ``P_applied / w`` on the machine's real motion."""
+    header = check_header(header)
+    model = header.force_model()
+    motion = _machine_motion(header, theta)
+    w = crank_speed(header)
+    out = {}
+    for load in model.loads:
+        p = applied_power(model.replace_loads([load]), motion)
+        out[_load_name(load)] = np.broadcast_to(np.asarray(p, dtype=float) / w, motion.phi.shape)
+    return out
+
+
+def reduced_load_moment(header: NailHeader, theta) -> np.ndarray:
+    """Total reduced moment of the loads (N m, positive driving) at clockwise angles ``theta``."""
+    header = check_header(header)
+    model = header.force_model()
+    p = applied_power(model, _machine_motion(header, theta))
+    return np.broadcast_to(
+        np.asarray(p, dtype=float), np.shape(np.atleast_1d(theta))
+    ) / crank_speed(header)
+
+
+def nail_header_inertia(header: NailHeader, theta):
+    """Reduced moment of inertia ``J`` (kg m^2) and ``dJ/dtheta`` (kg m^2/rad) of every body of
+    ``header.force_model()`` at clockwise crank angles ``theta`` (rad)."""
+    header = check_header(header)
+    bodies = list(header.force_model().bodies.values())
+    phi = -np.atleast_1d(np.asarray(theta, dtype=float))
+    j, dj_dphi = reduced_inertia(header, bodies, phi)
+    j = np.broadcast_to(np.asarray(j, dtype=float), phi.shape)
+    return j, -np.broadcast_to(np.asarray(dj_dphi, dtype=float), phi.shape)
+
+
+def kinetic_energy_at_speed(header: NailHeader, theta):
+    """Kinetic energy (J) of the bodies at ``theta`` when the crank turns at the header's speed."""
+    bodies = list(header.force_model().bodies.values())
+    return kinetic_energy(_machine_motion(header, theta), bodies)
+
+
+def _upsetting_on(header, theta):
+    return np.asarray(header.upsetting(_machine_motion(header, theta))) > 0
+
+
+def contact_angles(header: NailHeader, n=5760) -> np.ndarray:
+    """Clockwise crank angles (rad) where the upsetting force switches on or off between the
+    samples of an ``n``-interval grid, each located by bisection to machine precision; returned
+    as bracketing pairs ``[[lo, hi], ...]`` (``lo < hi``, adjacent floats apart at most 1e-13)."""
+    header = check_header(header)
+    theta = np.linspace(0.0, TWO_PI, int(n) + 1)
+    on = _upsetting_on(header, theta)
+    pairs = []
+    for i in np.flatnonzero(on[1:] != on[:-1]):
+        lo, hi = theta[i], theta[i + 1]
+        state_lo = on[i]
+        while hi - lo > 1e-13:
+            mid = 0.5 * (lo + hi)
+            if _upsetting_on(header, mid)[0] == state_lo:
+                lo = mid
+            else:
+                hi = mid
+        pairs.append((lo, hi))
+    return np.array(pairs, dtype=float).reshape(-1, 2)
+
+
+def load_table(header: NailHeader, n=5760) -> TabulatedMoment:
+    """The total reduced load moment tabulated on ``n`` intervals plus both sides of every
+    contact switch of the upsetting force (so its jump is represented exactly)."""
+    header = check_header(header)
+    n = int(n)
+    if n < 8:
+        raise ValueError(f"load table intervals n must be at least 8, got {n}")
+    theta = np.unique(
+        np.concatenate([np.linspace(0.0, TWO_PI, n + 1), contact_angles(header, n).ravel()])
     )
+    return TabulatedMoment(theta, reduced_load_moment(header, theta))
+
+
+def mean_load_torque(header: NailHeader, n=5760) -> float:
+    """Mean resisting torque at the crank (N m): minus the loads' work per turn over ``2 pi``."""
+    return -load_table(header, n).work / TWO_PI
+
+
+def default_motor(gear_ratio=None, header: NailHeader | None = None, load_torque=None):
+    """The assumed motor (:data:`MOTOR_ASSUMPTION`) through ``gear_ratio``.
+
+    With ``gear_ratio=None`` the ratio is solved (stable branch of Kloss's curve) so that the
+    motor's torque at the crank equals ``load_torque`` (N m; default: the header's mean load
+    torque) at the header's speed ``n1``.
+    """
+    a = MOTOR_ASSUMPTION
+
+    def motor(u):
+        return InductionMotor.from_catalogue(
+            a["rated_power_W"],
+            a["rated_rpm"] * RPM,
+            a["sync_rpm"] * RPM,
+            a["overload_ratio"],
+            gear_ratio=u,
+            efficiency=a["gear_efficiency"],
+        )
+
+    if gear_ratio is not None:
+        return motor(gear_ratio)
+    header = check_header(header)
+    m_l = mean_load_torque(header) if load_torque is None else float(load_torque)
+    w = crank_speed(header)
+    base = motor(1.0)
+    u_sync = base.sync_speed / w  # zero slip: no torque
+    u_k = (1.0 - base.critical_slip) * u_sync  # breakdown torque
+    if not np.isfinite(m_l) or m_l >= base.efficiency * u_k * base.breakdown_torque:
+        raise ValueError(
+            f"the assumed {a['rated_power_W'] / 1e3:.3g} kW motor cannot carry a mean load "
+            f"torque of {m_l:.6g} N m at {header.n1:.6g} rpm (breakdown "
+            f"{base.efficiency * u_k * base.breakdown_torque:.6g} N m at the crank)"
+        )
+    u = brentq(lambda x: float(motor(x).torque(w)) - m_l, u_k, u_sync, xtol=1e-14, rtol=1e-14)
+    return motor(u)
+
+
+def nail_header_drive(
+    header=None, *, slider_mass=None, motor=None, gear_ratio=None, n=720, table=8
+):
+    """Reduced model and motor of a nail header; returns ``(model, motor)``.
+
+    Parameters
+    ----------
+    header : NailHeader, default ``NailHeader()`` (paper 003's serial machine).
+    slider_mass : kg, replaces ``header.m3`` when given (convenience).
+    motor : an :class:`InductionMotor` at the crank; default :func:`default_motor`.
+    gear_ratio : used with the default motor; ``None`` solves it for the mean speed ``n1``.
+    n : crank-angle intervals of the inertia spline (the model's grid over ``theta``).
+    table : the load moment is tabulated on ``table * n`` intervals (plus the contact angles).
+
+    The model's coordinate is the clockwise crank angle ``theta`` (see the module docstring).
+    """
+    header = check_header(header, slider_mass)
+    n = int(n)
+    if n < 8 or int(table) < 1:
+        raise ValueError(f"n must be at least 8 and table at least 1, got n={n}, table={table}")
+    theta = np.linspace(0.0, TWO_PI, n + 1)
+    j, dj = nail_header_inertia(header, theta)
+    loads = load_table(header, int(table) * n)
+    zero = np.zeros_like(theta)
+    model = ReducedModel(theta, j.copy(), dj.copy(), zero, zero, (loads,))
+    if motor is None:
+        motor = default_motor(gear_ratio, header, -loads.work / TWO_PI)
+    elif not isinstance(motor, InductionMotor):
+        raise ValueError(f"motor must be an InductionMotor, got {type(motor).__name__}")
     return model, motor
 
 
-def nail_header_speed_fluctuation(slider_mass=15.0, gear_ratio=2.4, n=720):
-    """Steady cycle of the nail header at about 600 rpm: dict with delta, mean/min/max speed
-    (rpm), both solvers' results (``"ivp"``, ``"stepping"``)."""
-    model, motor = nail_header_drive(slider_mass, gear_ratio, n)
-    w0 = 1440 * RPM / gear_ratio
-    ivp = steady_cycle(model, motor, w0, n=360)
-    step = energy_stepping(model, motor, w0, n=n)
+def nail_header_speed_fluctuation(
+    header=None, *, slider_mass=None, motor=None, gear_ratio=None, n=720
+):
+    """Steady cycle of a nail header with its motor, by ``solve_ivp`` and by energy stepping.
+
+    Returns a dict: ``slider_mass`` (kg), ``delta`` (``(w_max - w_min) / w_mean``, solve_ivp),
+    ``delta_stepping``, ``mean_rpm``, ``min_rpm``, ``max_rpm`` (crank, clockwise), ``gear_ratio``,
+    ``load_work_J`` (work of the loads per turn, negative), ``mean_power_W``, ``inertia_min`` and
+    ``inertia_max`` (kg m^2), and the two :class:`CycleResult` (``"ivp"``, ``"stepping"``) over
+    the clockwise crank angle.
+    """
+    header = check_header(header, slider_mass)
+    model, motor = nail_header_drive(header, motor=motor, gear_ratio=gear_ratio, n=n)
+    w0 = crank_speed(header)
+    ivp = steady_cycle(model, motor, w0, n=int(n))
+    step = energy_stepping(model, motor, w0, n=int(n))
+    work = model.extra[0].work
     return {
-        "slider_mass": float(slider_mass),
+        "slider_mass": float(header.m3),
         "delta": float(ivp.delta),
         "delta_stepping": float(step.delta),
         "mean_rpm": float(ivp.omega_mean / RPM),
         "min_rpm": float(ivp.omega.min() / RPM),
         "max_rpm": float(ivp.omega.max() / RPM),
+        "gear_ratio": float(motor.gear_ratio),
+        "load_work_J": float(work),
+        "mean_power_W": float(-work * ivp.omega_mean / TWO_PI),
+        "inertia_min": float(model.j_grid.min()),
+        "inertia_max": float(model.j_grid.max()),
         "ivp": ivp,
         "stepping": step,
     }
