@@ -55,6 +55,17 @@ def test_study_json_and_optimum(tmp_path):
     assert cw["peak"] <= data["optimal_slider_mass_train"]["peak"] * (1 + 1e-6)
     assert cw["peak_recomputed"] == pytest.approx(cw["peak"], rel=1e-4)
     assert all(p.exists() for p in r.files) and len(r.errata) >= 4
+    # speed fluctuation at 600 rpm of the same NailHeader with the assumed motor
+    sf = data["speed_fluctuation"]
+    assert "no motor" in sf["motor"]["note"] and sf["motor"]["rated_power_W"] == 4000.0
+    light, heavy = sf["rows"]
+    assert (light["slider_mass"], heavy["slider_mass"]) == (15.0, 50.0)
+    for row in sf["rows"]:
+        assert row["mean_rpm"] == pytest.approx(600.0, rel=2e-4)
+        assert row["delta_stepping"] == pytest.approx(row["delta"], rel=2e-3)
+        assert 0 < row["delta_without_upsetting"] < row["delta"]
+    assert 0.005 < light["delta"] < 0.012 and 3 * light["delta"] < heavy["delta"] < 0.04
+    assert any(p.name == "nail_header_speed.png" for p in r.files)
 
 
 @settings(max_examples=25, deadline=None)

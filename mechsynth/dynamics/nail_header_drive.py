@@ -188,6 +188,7 @@ def nail_header_inertia(header: NailHeader, theta):
 
 def kinetic_energy_at_speed(header: NailHeader, theta):
     """Kinetic energy (J) of the bodies at ``theta`` when the crank turns at the header's speed."""
+    header = check_header(header)
     bodies = list(header.force_model().bodies.values())
     return kinetic_energy(_machine_motion(header, theta), bodies)
 
