@@ -89,6 +89,7 @@ def test_agrees_with_the_study_search(de_result, study_result):
     assert np.rad2deg(vals["dwell"]) == pytest.approx(best["dwell_deg"], abs=1e-9)
     assert vals["S_max"] >= STROKE
     dwell_de = np.rad2deg(de_result.value)
+    assert dwell_de == pytest.approx(109.0) and best["dwell_deg"] == pytest.approx(111.0)
     assert -STEP_DEG <= best["dwell_deg"] - dwell_de <= 2.0 + STEP_DEG
     # the study's refinement started at the DE design keeps it feasible and never loses dwell
     v = de_result.variables
