@@ -200,5 +200,11 @@ def test_bad_input():
         nail_header_drive(motor="4 kW")
     with pytest.raises(ValueError, match="cannot carry a mean load torque of 100000 N m"):
         default_motor(header=NailHeader(), load_torque=1e5)
+    with pytest.raises(ValueError, match="theta must be finite"):
+        reduced_load_moments(NailHeader(), [0.1, np.nan])
+    with pytest.raises(ValueError, match="theta must be finite"):
+        nail_header_inertia(NailHeader(), np.inf)
+    with pytest.raises(ValueError, match="n must be at least 8, got 2"):
+        contact_angles(NailHeader(), 2)
     r = nail_header_speed_fluctuation(n=90)
     assert all(np.isfinite(v) for k, v in r.items() if k not in ("ivp", "stepping"))

@@ -142,8 +142,15 @@ def crank_speed(header: NailHeader) -> float:
     return -float(header.omega)
 
 
+def _angles(theta):
+    t = np.atleast_1d(np.asarray(theta, dtype=float))
+    if not np.all(np.isfinite(t)):
+        raise ValueError(f"crank angles theta must be finite, got {t[~np.isfinite(t)][:3]}")
+    return t
+
+
 def _machine_motion(header, theta):
-    return header.motion(-np.atleast_1d(np.asarray(theta, dtype=float)), speed=header.omega)
+    return header.motion(-_angles(theta), speed=header.omega)
 
 
 def _load_name(load):
@@ -170,9 +177,7 @@ def reduced_load_moment(header: NailHeader, theta) -> np.ndarray:
     header = check_header(header)
     model = header.force_model()
     p = applied_power(model, _machine_motion(header, theta))
-    return np.broadcast_to(
-        np.asarray(p, dtype=float), np.shape(np.atleast_1d(theta))
-    ) / crank_speed(header)
+    return np.broadcast_to(np.asarray(p, dtype=float), _angles(theta).shape) / crank_speed(header)
 
 
 def nail_header_inertia(header: NailHeader, theta):
@@ -180,7 +185,7 @@ def nail_header_inertia(header: NailHeader, theta):
     ``header.force_model()`` at clockwise crank angles ``theta`` (rad)."""
     header = check_header(header)
     bodies = list(header.force_model().bodies.values())
-    phi = -np.atleast_1d(np.asarray(theta, dtype=float))
+    phi = -_angles(theta)
     j, dj_dphi = reduced_inertia(header, bodies, phi)
     j = np.broadcast_to(np.asarray(j, dtype=float), phi.shape)
     return j, -np.broadcast_to(np.asarray(dj_dphi, dtype=float), phi.shape)
@@ -202,6 +207,8 @@ def contact_angles(header: NailHeader, n=5760) -> np.ndarray:
     samples of an ``n``-interval grid, each located by bisection to machine precision; returned
     as bracketing pairs ``[[lo, hi], ...]`` (``lo < hi``, adjacent floats apart at most 1e-13)."""
     header = check_header(header)
+    if int(n) < 8:
+        raise ValueError(f"contact search intervals n must be at least 8, got {n}")
     theta = np.linspace(0.0, TWO_PI, int(n) + 1)
     on = _upsetting_on(header, theta)
     pairs = []
