@@ -179,7 +179,7 @@ def test_kernels_run_the_models_own_code():
     assert compiled._FB_CHAIN.py_func.__code__ is four_bar_chain.__code__
     assert compiled._SC_CHAIN.py_func.__code__ is slider_crank_chain.__code__
     rrr = compiled._FB_CHAIN.py_func.__globals__["dyad_rrr"]
-    assert rrr.py_func.__code__ is blocks.dyad_rrr.__code__
+    assert rrr.py_func.__code__ is blocks.dyad_rrr.__wrapped__.__code__
     assert rrr.py_func.__globals__["ops"] is scalar_ops
     # every elementary function the blocks use exists in the scalar stand-in
     from mechsynth.kinematics import ops

@@ -16,6 +16,8 @@ crank angle. Symbolic input is not checked (the optimizer's constraints keep it 
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from ..errors import MechanismError
@@ -61,6 +63,19 @@ def _check_toggle(what, phi, *analogs):
         raise MechanismError(
             f"{what} at crank angle {np.rad2deg(ph):.6g} deg: the velocity analogs are infinite"
         )
+
+
+def _toggles_raise(fn):
+    """Run a dyad with numpy's 0/0 and x/0 warnings off: at a toggle position its analogs are
+    inf or nan, and the dyad raises MechanismError for them instead. The undecorated function
+    (``__wrapped__``) is what the compiled kernels are built from."""
+
+    @functools.wraps(fn)
+    def quiet(*args, **kwargs):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return fn(*args, **kwargs)
+
+    return quiet
 
 
 def crank(phi, length, x0=0.0, y0=0.0, phase=0.0) -> PointJet:
@@ -113,6 +128,7 @@ def coupler_point(base: PointJet, angle: Jet, u, v) -> PointJet:
     )
 
 
+@_toggles_raise
 def dyad_rrr(p1: PointJet, p2: PointJet, l1, l2, branch=1, phi=None):
     """RRR dyad: joint C at distance ``l1`` from ``p1`` and ``l2`` from ``p2``.
 
@@ -163,6 +179,7 @@ def dyad_rrr(p1: PointJet, p2: PointJet, l1, l2, branch=1, phi=None):
     return c, Jet(t1, w1, e1), Jet(t2, w2, e2)
 
 
+@_toggles_raise
 def dyad_rrp(p: PointJet, length, guide_x=0.0, guide_y=0.0, guide_angle=0.0, branch=1, phi=None):
     """RRP dyad: a link of ``length`` from the moving point ``p`` to a slider B on a fixed straight
     guide through (guide_x, guide_y) with direction ``guide_angle`` (rad from +x).
@@ -206,6 +223,7 @@ def dyad_rrp(p: PointJet, length, guide_x=0.0, guide_y=0.0, guide_angle=0.0, bra
     return b, s, link_angle(p, b)
 
 
+@_toggles_raise
 def dyad_rpr(p: PointJet, pivot_x, pivot_y, offset=0.0, branch=1, phi=None):
     """RPR dyad (oscillating slotted lever): a slider at the moving point ``p`` slides in a lever
     that turns about the fixed pivot (pivot_x, pivot_y); the slot line lies at perpendicular

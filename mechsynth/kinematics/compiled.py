@@ -338,7 +338,11 @@ def _kernels():
         "_check_nonnegative": scalar_ops.check_nonnegative,
         "_check_toggle": scalar_ops.check_toggle,
     }
-    model = [blocks.link_angle, blocks.crank_pin, blocks.dyad_rrr, blocks.dyad_rrp]
+    # the blocks' own functions (the dyads without their numpy warning guard)
+    model = [
+        getattr(f, "__wrapped__", f)
+        for f in (blocks.link_angle, blocks.crank_pin, blocks.dyad_rrr, blocks.dyad_rrp)
+    ]
     for fn in model:
         ns[fn.__name__] = _twin(fn, ns, jit)
     _FB_CHAIN = _twin(four_bar_chain, ns, jit)
