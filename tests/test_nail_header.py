@@ -85,3 +85,16 @@ def test_power_balance_random_nail_headers(m3, m2, m5, j5, cw, sense):
     res = kinetostatics(model, m)
     rhs = kinetic_energy_rate(model, m) - applied_power(model, m)
     assert np.max(np.abs(res.torque * m.omega - rhs)) <= 1e-9 * np.max(np.abs(rhs))
+
+
+def test_upsetting_acts_on_the_advancing_stroke_for_analog_and_real_motion():
+    """The crank turns clockwise: the punch advances into the blank for phi just above 0
+    (clockwise angle just below 360 deg). An analog motion must put the force there too."""
+    nh = NailHeader()
+    phi = np.deg2rad(np.array([-20.0, -5.0, -1.0, 1.0, 5.0, 20.0]))
+    real = np.asarray(nh.upsetting(nh.motion(phi, speed=nh.omega)))
+    analog = np.asarray(nh.upsetting(nh.motion(phi)))
+    np.testing.assert_array_equal(analog, real)
+    # approaching the outer dead centre clockwise = phi decreasing towards 0 from above; the
+    # contact begins within h = 3 mm of it (phi about 14.8 deg)
+    assert np.all(real[3:5] > 0) and np.all(real[[0, 1, 2, 5]] == 0)

@@ -158,10 +158,16 @@ class NailHeader(Mechanism):
 
     def upsetting(self, motion: Motion):
         """Upsetting force (N, along +x magnitude) on the punch: ``F_e0 + c1 l_e^4`` while the
-        punch is within ``h`` of the outer dead centre and advancing (or at rest), else 0."""
+        punch is within ``h`` of the outer dead centre and advancing (or at rest), else 0.
+
+        "Advancing" is judged on the machine's real motion: on an analog motion (no speed) the
+        analogs are per counter-clockwise radian, and the machine turns clockwise, so the punch
+        advances where the analog ``dx_B/dphi`` is negative."""
         s = self.stroke_from_outer(motion)
         f = upsetting_force(s, self.h, self.c1, self.sigma_t, self.mu, self.d, self.l_blank)
         vx = motion.points["B"].vx
+        if motion.is_analog:
+            vx = -vx  # velocity per unit clockwise crank speed
         scale = abs(self.l_oa * motion.omega) if not motion.is_analog else self.l_oa
         return ops.where(vx >= -1e-9 * scale, f, 0.0 * f)
 

@@ -20,9 +20,9 @@ they drive the crank clockwise, forward. Then
 * ``M(theta) = P_applied / w`` (N m), ``P_applied`` the power of the loads computed on the
   machine's real motion ``NailHeader.motion(-theta, speed=NailHeader.omega)``, so that the
   upsetting force acts where the punch really advances (the last ``h`` before the outer dead
-  centre, ``theta`` just below ``2 pi``), not on the mirror-image stroke an analog motion in
-  ``phi`` would pick. The loads' magnitudes do not depend on the speed, only on the sense of
-  motion, so ``M`` is a function of ``theta`` alone;
+  centre, ``theta`` just below ``2 pi``; ``NailHeader.upsetting`` reads an analog motion the
+  same way, as the clockwise machine's). The loads' magnitudes do not depend on the speed,
+  only on the sense of motion, so ``M`` is a function of ``theta`` alone;
 * the kinetostatic balancing torque (counter-clockwise positive) of ``NailHeader.forces`` at
   constant speed is ``T_b = M(theta) - J'(theta) w^2 / 2`` (power balance, tested).
 
