@@ -54,6 +54,21 @@ def test_minimax_fit_matches_brute_force(seed, n):
     assert np.max(np.abs(d)) == pytest.approx(fit.deviation, rel=1e-12, abs=1e-14)
 
 
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 10_000), st.integers(3, 400), st.floats(0.05, 6.2))
+def test_hull_width_on_convex_arcs(seed, n, span):
+    # every point on the hull (an arc of an ellipse, the dwell sweep's usual case): the rotating
+    # calipers must agree with the exact fit (scipy's hull, every direction of every edge)
+    rng = np.random.default_rng(seed)
+    t = np.sort(rng.uniform(0.0, span, n))
+    a, b, rot = rng.uniform(0.2, 3.0), rng.uniform(0.01, 3.0), rng.uniform(0, np.pi)
+    x0, y0 = a * np.cos(t), b * np.sin(t)
+    x = np.cos(rot) * x0 - np.sin(rot) * y0 + rng.normal()
+    y = np.sin(rot) * x0 + np.cos(rot) * y0 + rng.normal()
+    fit = minimax_line_fit(np.column_stack([x, y]))
+    assert _hull_width(x, y) == pytest.approx(2 * fit.deviation, rel=1e-9, abs=1e-13)
+
+
 def test_collinear_points_zero_deviation():
     t = np.linspace(-1, 2, 9)
     fit = minimax_line_fit(np.column_stack([1 + 2 * t, 3 - t]))
