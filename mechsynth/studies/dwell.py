@@ -23,10 +23,11 @@ one below every feasible one by its stroke shortfall; equal dwells rank by the l
 
 from __future__ import annotations
 
-from concurrent.futures import ThreadPoolExecutor
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
+import numba
 import numpy as np
 
 from ..kinematics.dwell import DwellSliderCrank
@@ -70,7 +71,8 @@ def evaluate_batch(points, tolerance, n_angles=720, workers=1, chunk=256):
         degrees (counter-clockwise from AB to AC).
     tolerance : admitted half-width E of the dwell band, relative to the rod.
     n_angles : crank angles per cycle (uniform, from 0); the dwell is quantized to 360/n_angles deg.
-    workers : threads evaluating chunks of ``chunk`` designs (the window sweep releases the GIL).
+    workers : threads of the compiled window sweeps (over the designs of each chunk of
+        ``chunk`` designs).
 
     Returns
     -------
@@ -90,12 +92,26 @@ def evaluate_batch(points, tolerance, n_angles=720, workers=1, chunk=256):
         return np.column_stack([deg(w["dwell"]), deg(w["phi_L"]), w["deviation"], deg(w["xi"]), s])
 
     parts = np.array_split(p, max(1, -(-len(p) // int(chunk))))
-    if int(workers) > 1 and len(parts) > 1:
-        with ThreadPoolExecutor(max_workers=int(workers)) as pool:
-            cols = np.concatenate(list(pool.map(block, parts)))
-    else:
+    with _numba_threads(workers):
         cols = np.concatenate([block(q) for q in parts])
     return dict(zip(FIELDS, cols.T))
+
+
+@contextmanager
+def _numba_threads(workers):
+    """Run the (numba-parallel) dwell sweeps on ``workers`` threads, then restore the setting.
+
+    The parallelism is inside the compiled sweeps, over designs; calling them from several Python
+    threads instead would need a thread-safe numba threading layer."""
+    workers = int(workers)
+    if workers < 1:
+        raise ValueError(f"workers must be >= 1, got {workers}")
+    before = numba.get_num_threads()
+    numba.set_num_threads(min(workers, numba.config.NUMBA_NUM_THREADS))
+    try:
+        yield
+    finally:
+        numba.set_num_threads(before)
 
 
 def evaluate(r, k, gamma_deg, tolerance, n_angles=720):
