@@ -198,3 +198,13 @@ def test_infeasible_stroke_reported_and_exits_nonzero(capsys):
     assert "reaches the stroke" in res.summary
     assert _print_result(res, argparse.Namespace(json=True)) == 1
     capsys.readouterr()
+
+
+def test_sensitivity_is_direct_evaluation_and_monotone_in_the_tolerance():
+    best = evaluate(0.45, 1.9955, -40.0, TOL)
+    sens = study.sensitivity(best, TOL, rel=0.05)
+    assert sens["dwell_deg_tighter"] == evaluate(0.45, 1.9955, -40.0, TOL * 0.95)["dwell_deg"]
+    assert sens["dwell_deg_looser"] == evaluate(0.45, 1.9955, -40.0, TOL * 1.05)["dwell_deg"]
+    # a band that fits a window fits it for any looser tolerance: the dwell cannot fall
+    assert sens["dwell_deg_tighter"] <= best["dwell_deg"] <= sens["dwell_deg_looser"]
+    assert sens["rounded"] == evaluate(0.45, 1.9955, -40.0, TOL)

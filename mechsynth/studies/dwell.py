@@ -395,6 +395,36 @@ def _draw(best, tolerance, out: Path):
     return path
 
 
+def sensitivity(best, tolerance, rel=0.01):
+    """How firmly the best design holds its dwell: the dwell of the same design for a tolerance
+    ``rel`` tighter and looser, and of the design rounded to the printed digits (r, k to 4
+    decimals, gamma to 0.01 deg). The longest dwell sits where the section's waviness just meets
+    the tolerance, so a small change can cut the window at a different wave.
+
+    Returns a dict: ``dwell_deg_tighter``, ``dwell_deg_looser`` (deg), ``rel`` and ``rounded``
+    (the rounded design with its metrics at ``tolerance``)."""
+    r, k, g = best["r"], best["k"], best["gamma_deg"]
+    rounded = evaluate(round(r, 4), round(k, 4), round(g, 2), tolerance)
+    return {
+        "rel": rel,
+        "dwell_deg_tighter": evaluate(r, k, g, tolerance * (1 - rel))["dwell_deg"],
+        "dwell_deg_looser": evaluate(r, k, g, tolerance * (1 + rel))["dwell_deg"],
+        "rounded": rounded,
+    }
+
+
+def _sensitivity_line(sens):
+    rd = sens["rounded"]
+    pct = 100 * sens["rel"]
+    return (
+        f"sensitivity: the same design dwells {sens['dwell_deg_tighter']:.1f} deg for E "
+        f"{pct:g} % tighter, {sens['dwell_deg_looser']:.1f} deg for E {pct:g} % looser; rounded "
+        f"to r={rd['r']:.4f} k={rd['k']:.4f} gamma={rd['gamma_deg']:.2f} deg it dwells "
+        f"{rd['dwell_deg']:.1f} deg (E={rd['deviation']:.4g} l). Give the design at full "
+        "precision, or synthesize for a smaller E than the one to hold."
+    )
+
+
 def _line(d):
     return (
         f"r={d['r']:.4f} k={d['k']:.4f} gamma={d['gamma_deg']:.2f} deg, "
@@ -454,6 +484,7 @@ def run(
     data.update(
         best=best,
         seed=seed,
+        sensitivity=sensitivity(best, tolerance),
         evaluations=global_stage.evaluations + stage2.evaluations,
         certificate=cert.as_dict(),
         success=bool(success),
@@ -480,6 +511,7 @@ def run(
             f"the whole box + {local}^3 local grid, 720 angles, {cert.evaluations} designs: "
             f"best {_line(cb)}; margin {cert.margin_deg:+.1f} deg "
             f"(slack {cert.slack_deg:g}) -> {'passed' if cert.passed else 'NOT passed'}",
+            _sensitivity_line(data["sensitivity"]),
         ]
     )
     return StudyResult("dwell", summary, data, files)
