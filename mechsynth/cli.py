@@ -35,6 +35,14 @@ def _add_study(sub) -> None:
     pl.set_defaults(func=_study_list)
     pr = ssub.add_parser("run", help="run a study and compare with the published values")
     pr.add_argument("name", help="study name (see 'mechsynth study list')")
+    pr.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="study option (repeatable), e.g. --set tolerance=0.001 --set stroke=0.35 for "
+        "dwell; --set help lists the study's options and defaults",
+    )
     _add_output_options(pr)
     pr.set_defaults(func=_study_run)
 
@@ -53,7 +61,55 @@ def _study_list(args) -> int:
 def _study_run(args) -> int:
     from .studies import run_study
 
-    return _print_result(run_study(args.name, out=args.out), args)
+    options = _study_options(args.name, args.set)
+    if options is None:
+        return 0
+    return _print_result(run_study(args.name, out=args.out, **options), args)
+
+
+def _study_options(name, items):
+    """``--set KEY=VALUE`` strings as keyword arguments of the study's ``run``, each read as the
+    type of its default (a comma list for a tuple default). None after printing the options
+    for ``--set help``."""
+    import inspect
+
+    from .studies import get_study
+
+    params = {
+        k: p.default
+        for k, p in inspect.signature(get_study(name).run).parameters.items()
+        if k != "out" and p.default is not inspect.Parameter.empty
+    }
+    known = ", ".join(f"{k}={v!r}" for k, v in params.items()) or "none"
+    options = {}
+    for item in items:
+        key, sep, text = (t.strip() for t in item.partition("="))
+        if key == "help" and not sep:
+            print(f"options of study {name!r} (defaults): {known}")
+            return None
+        if not sep:
+            raise ValueError(f"--set expects KEY=VALUE, got {item!r}")
+        if key not in params:
+            raise ValueError(
+                f"study {name!r} has no option {key!r}; its options (defaults): {known}"
+            )
+        options[key] = _read_option(key, text, params[key])
+    return options
+
+
+def _read_option(key, text, default):
+    kind = type(default[0]) if isinstance(default, tuple) and default else type(default)
+    if kind not in (int, float, str):
+        raise ValueError(f"option {key} cannot be set from the command line")
+    parts = [t.strip() for t in text.split(",")] if isinstance(default, tuple) else [text]
+    try:
+        values = tuple(kind(t) for t in parts)
+    except ValueError:
+        raise ValueError(
+            f"option {key}: cannot read {text!r} as {kind.__name__}"
+            + (" values separated by commas" if isinstance(default, tuple) else "")
+        ) from None
+    return values if len(values) > 1 else values[0]
 
 
 # ------------------------------------------------------------------------------- chart
@@ -127,8 +183,8 @@ def _print_result(result, args) -> int:
             print("\nWritten:")
             for f in result.files:
                 print(f"  {f}")
-    # a study that reports an optimizer failure or infeasibility exits non-zero
-    return 0 if result.data.get("success", True) is not False else 1
+    # a study that reports an optimizer failure or infeasibility exits non-zero (as optimize)
+    return 0 if result.data.get("success", True) is not False else EXIT_FAILED
 
 
 # ------------------------------------------------------------------------------- optimize

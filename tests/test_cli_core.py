@@ -35,3 +35,32 @@ def test_unknown_study_is_a_clear_error(capsys):
     assert main(["study", "run", "no-such-study"]) == 1
     err = capsys.readouterr().err
     assert "unknown study 'no-such-study'" in err and "known studies" in err
+
+
+def test_study_options_from_the_command_line(capsys):
+    assert main(["study", "run", "dwell", "--set", "help"]) == 0
+    out = capsys.readouterr().out
+    assert "tolerance=0.002" in out and "stroke=0.3" in out
+    rc = main(
+        ["study", "run", "dwell", "--set", "tolerance=0.003", "--set", "stroke=0.35"]
+        + ["--set", "n=6,7,7", "--set", "dense=5", "--set", "local=3", "--json"]
+    )
+    data = json.loads(capsys.readouterr().out)
+    assert rc == 0
+    assert data["tolerance"] == 0.003 and data["stroke"] == 0.35
+    assert data["stages"][0]["evaluations"] == 6 * 7 * 7
+    assert data["best"]["deviation"] <= 0.003 and data["best"]["S_max"] >= 0.35
+
+
+@pytest.mark.parametrize(
+    "item, message",
+    [
+        ("tol=1", "has no option 'tol'; its options (defaults): tolerance=0.002"),
+        ("n=a,b", "option n: cannot read 'a,b' as int values separated by commas"),
+        ("stroke", "--set expects KEY=VALUE"),
+        ("stroke=-1", "stroke"),
+    ],
+)
+def test_bad_study_options_are_clear_errors(item, message, capsys):
+    assert main(["study", "run", "dwell", "--set", item]) == 1
+    assert message in capsys.readouterr().err

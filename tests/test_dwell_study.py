@@ -196,7 +196,7 @@ def test_infeasible_stroke_reported_and_exits_nonzero(capsys):
     res = run(None, stroke=5.0, n=3, dense=3)
     assert res.data["success"] is False
     assert "reaches the stroke" in res.summary
-    assert _print_result(res, argparse.Namespace(json=True)) == 1
+    assert _print_result(res, argparse.Namespace(json=True)) == 2
     capsys.readouterr()
 
 
