@@ -66,6 +66,14 @@ def test_study_json_and_optimum(tmp_path):
         assert 0 < row["delta_without_upsetting"] < row["delta"]
     assert 0.005 < light["delta"] < 0.012 and 3 * light["delta"] < heavy["delta"] < 0.04
     assert any(p.name == "nail_header_speed.png" for p in r.files)
+    # the flywheel that holds the 15 kg fluctuation with the R32-optimal slider
+    fw = sf["flywheel"]
+    assert fw["slider_mass"] == data["optimal_slider_mass"]["mass"]
+    assert fw["delta"] > heavy["delta"] > light["delta"]
+    assert fw["delta_with_flywheel"] == pytest.approx(light["delta"], rel=1e-4)
+    assert fw["flywheel_kgm2"] > 0
+    # the classic energy estimate (constant-speed work swing) is the same order, conservative
+    assert fw["flywheel_kgm2"] < fw["energy_method_kgm2"] < 2 * fw["flywheel_kgm2"]
 
 
 @settings(max_examples=25, deadline=None)
