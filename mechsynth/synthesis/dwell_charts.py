@@ -139,7 +139,7 @@ def plot_dwell_chart(chart: DwellChart, path=None):
 
 
 def chart_dwell(out, options):
-    """``mechsynth chart dwell``: options gamma_deg=0,20,40 tolerance=0.002 n=20 window_deg=90
+    """``mechsynth chart dwell``: options gamma_deg=0,20,40 tolerance=0.002 n=40 window_deg=90
     n_angles=360 r=0.05:0.5 k=0.3:2.5."""
     from ..report import StudyResult
     from .charts import pop_span
@@ -151,7 +151,7 @@ def chart_dwell(out, options):
 
     gammas = [float(v) for v in opts.pop("gamma_deg", "0,20,40").split(",")]
     tol = float(opts.pop("tolerance", "0.002"))
-    n = int(opts.pop("n", "20"))
+    n = int(opts.pop("n", "40"))
     window = float(opts.pop("window_deg", "90"))
     n_angles = int(opts.pop("n_angles", "360"))
     r_lo, r_hi = span("r", "0.05:0.5")
