@@ -81,19 +81,27 @@ def _study_options(name, items):
         if k != "out" and p.default is not inspect.Parameter.empty
     }
     known = ", ".join(f"{k}={v!r}" for k, v in params.items()) or "none"
+    if any(item.strip() == "help" for item in items):
+        print(f"options of study {name!r} (defaults): {known}")
+        return None
     options = {}
-    for item in items:
-        key, sep, text = (t.strip() for t in item.partition("="))
-        if key == "help" and not sep:
-            print(f"options of study {name!r} (defaults): {known}")
-            return None
-        if not sep:
-            raise ValueError(f"--set expects KEY=VALUE, got {item!r}")
+    for key, text in _set_options(items).items():
         if key not in params:
             raise ValueError(
                 f"study {name!r} has no option {key!r}; its options (defaults): {known}"
             )
         options[key] = _read_option(key, text, params[key])
+    return options
+
+
+def _set_options(items) -> dict[str, str]:
+    """``--set KEY=VALUE`` strings as ``{key: value}`` (both stripped)."""
+    options = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        if not sep:
+            raise ValueError(f"--set expects KEY=VALUE, got {item!r}")
+        options[key.strip()] = value.strip()
     return options
 
 
@@ -156,12 +164,7 @@ def _chart_run(args) -> int:
 
     if args.name not in CHARTS:
         raise ValueError(f"unknown chart {args.name!r}; known charts: {', '.join(sorted(CHARTS))}")
-    options = {}
-    for item in args.set:
-        key, sep, value = item.partition("=")
-        if not sep:
-            raise ValueError(f"--set expects KEY=VALUE, got {item!r}")
-        options[key.strip()] = value.strip()
+    options = _set_options(args.set)
     module, function, _ = CHARTS[args.name]
     result = getattr(importlib.import_module(module), function)(args.out, options)
     return _print_result(result, args)

@@ -46,9 +46,11 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
+from ..units import rpm, to_rpm
 from .equation_of_motion import energy_stepping, steady_cycle
 from .inertia import kinetic_energy, reduced_inertia
 from .kinetostatics import applied_power
+from .loads import TabulatedLoad
 from .motor import InductionMotor
 from .nail_header import NailHeader
 from .reduced import ReducedModel
@@ -70,7 +72,6 @@ __all__ = [
     "nail_header_speed_fluctuation",
 ]
 
-RPM = np.pi / 30
 TWO_PI = 2 * np.pi
 
 MOTOR_ASSUMPTION = {
@@ -101,18 +102,14 @@ class TabulatedMoment:
     moment: np.ndarray
 
     def __post_init__(self):
-        t = np.asarray(self.theta, dtype=float)
-        m = np.asarray(self.moment, dtype=float)
-        if t.ndim != 1 or t.shape != m.shape or t.size < 4:
+        # the load tables' checks (finite, same length, strictly increasing, one period)
+        table = TabulatedLoad(self.theta, self.moment, TWO_PI, "theta", "moment")
+        if table.x[0] != 0.0 or abs(table.x[-1] - TWO_PI) > 1e-12:
             raise ValueError(
-                f"theta and moment must be 1-D of one length >= 4, got {t.shape}, {m.shape}"
+                f"theta must run from 0 to 2 pi, got {table.x[0]:.6g} .. {table.x[-1]:.6g}"
             )
-        if np.any(np.diff(t) <= 0) or abs(t[0]) > 0 or abs(t[-1] - TWO_PI) > 1e-12:
-            raise ValueError("theta must increase strictly from 0 to 2 pi")
-        if not np.all(np.isfinite(m)):
-            raise ValueError("moment must be finite")
-        object.__setattr__(self, "theta", t)
-        object.__setattr__(self, "moment", m)
+        object.__setattr__(self, "theta", table.x)
+        object.__setattr__(self, "moment", table.y)
 
     def __call__(self, theta, omega=None):
         return np.interp(np.mod(np.asarray(theta, dtype=float), TWO_PI), self.theta, self.moment)
@@ -255,8 +252,8 @@ def default_motor(gear_ratio=None, header: NailHeader | None = None, load_torque
     def motor(u):
         return InductionMotor.from_catalogue(
             a["rated_power_W"],
-            a["rated_rpm"] * RPM,
-            a["sync_rpm"] * RPM,
+            rpm(a["rated_rpm"]),
+            rpm(a["sync_rpm"]),
             a["overload_ratio"],
             gear_ratio=u,
             efficiency=a["gear_efficiency"],
@@ -320,8 +317,8 @@ def nail_header_speed_fluctuation(
     Returns a dict: ``slider_mass`` (kg), ``delta`` (``(w_max - w_min) / w_mean``, solve_ivp),
     ``delta_stepping``, ``mean_rpm``, ``min_rpm``, ``max_rpm`` (crank, clockwise), ``gear_ratio``,
     ``load_work_J`` (work of the loads per turn, negative), ``mean_power_W``, ``inertia_min`` and
-    ``inertia_max`` (kg m^2), and the two :class:`CycleResult` (``"ivp"``, ``"stepping"``) over
-    the clockwise crank angle.
+    ``inertia_max`` (kg m^2), the two :class:`CycleResult` (``"ivp"``, ``"stepping"``) over
+    the clockwise crank angle, and the ``"model"`` and ``"motor"`` they ran on.
     """
     header = check_header(header, slider_mass)
     model, motor = nail_header_drive(header, motor=motor, gear_ratio=gear_ratio, n=n)
@@ -333,9 +330,9 @@ def nail_header_speed_fluctuation(
         "slider_mass": float(header.m3),
         "delta": float(ivp.delta),
         "delta_stepping": float(step.delta),
-        "mean_rpm": float(ivp.omega_mean / RPM),
-        "min_rpm": float(ivp.omega.min() / RPM),
-        "max_rpm": float(ivp.omega.max() / RPM),
+        "mean_rpm": float(to_rpm(ivp.omega_mean)),
+        "min_rpm": float(to_rpm(ivp.omega.min())),
+        "max_rpm": float(to_rpm(ivp.omega.max())),
         "gear_ratio": float(motor.gear_ratio),
         "load_work_J": float(work),
         "mean_power_W": float(-work * ivp.omega_mean / TWO_PI),
@@ -343,4 +340,6 @@ def nail_header_speed_fluctuation(
         "inertia_max": float(model.j_grid.max()),
         "ivp": ivp,
         "stepping": step,
+        "model": model,
+        "motor": motor,
     }

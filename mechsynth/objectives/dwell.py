@@ -42,6 +42,7 @@ __all__ = [
     "window_deviation",
     "relative_stroke",
     "dwell_windows",
+    "dwell_metrics",
     "best_window_width",
     "DwellDuration",
     "DwellDeviation",
@@ -380,6 +381,14 @@ def dwell_windows(phi, x, y, tolerance):
         "start": st.reshape(lead),
         "count": ct.reshape(lead),
     }
+
+
+def dwell_metrics(phi, x, y, tolerance, rod=1.0):
+    """:func:`dwell_windows` plus ``S_max``: the relative stroke of link 5 with its slot along
+    each window's fitted line (see :func:`relative_stroke`)."""
+    win = dwell_windows(phi, x, y, tolerance)
+    win["S_max"] = relative_stroke(x, y, win["xi"][..., None], rod)
+    return win
 
 
 def best_window_width(phi, x, y, span):

@@ -31,7 +31,7 @@ import numba
 import numpy as np
 
 from ..kinematics.dwell import DwellSliderCrank
-from ..objectives.dwell import dwell_window, dwell_windows, relative_stroke
+from ..objectives.dwell import dwell_metrics, dwell_window
 from . import StudyResult
 
 R_BOUNDS = (0.05, 0.5)
@@ -86,10 +86,11 @@ def evaluate_batch(points, tolerance, n_angles=720, workers=1, chunk=256):
     def block(q):
         m = DwellSliderCrank(r=q[:, 0:1], k=q[:, 1:2], gamma=np.deg2rad(q[:, 2:3]))
         x, y = np.broadcast_arrays(*m.coupler_curve(phi))
-        w = dwell_windows(phi, x, y, tolerance)
-        s = relative_stroke(x, y, w["xi"][:, None])
+        w = dwell_metrics(phi, x, y, tolerance)
         deg = np.rad2deg
-        return np.column_stack([deg(w["dwell"]), deg(w["phi_L"]), w["deviation"], deg(w["xi"]), s])
+        return np.column_stack(
+            [deg(w["dwell"]), deg(w["phi_L"]), w["deviation"], deg(w["xi"]), w["S_max"]]
+        )
 
     parts = np.array_split(p, max(1, -(-len(p) // int(chunk))))
     with _numba_threads(workers):
@@ -127,6 +128,11 @@ def score(dwell_deg, s_max, stroke):
     """Dwell (deg) where the stroke constraint holds, else a penalty below every feasible value."""
     short = stroke - np.asarray(s_max)
     return np.where(short <= 0, dwell_deg, -1000.0 * short)
+
+
+def _feasible(design, tolerance, stroke) -> bool:
+    """The design meets E <= tolerance and S_max >= stroke."""
+    return bool(design["S_max"] >= stroke and design["deviation"] <= tolerance)
 
 
 def _argbest(key, s_max, axis=None):
@@ -324,7 +330,7 @@ def certify(
         pts, m, int(_argbest(score(m["dwell_deg"], m["S_max"], stroke), m["S_max"]))
     )
     design = evaluate(*centre, tolerance, n_angles)
-    feasible = design["S_max"] >= stroke and design["deviation"] <= tolerance
+    feasible = _feasible(design, tolerance, stroke)
     slack = 360.0 / n_angles
     passed = bool(feasible and design["dwell_deg"] >= grid_best["dwell_deg"] - slack - 1e-9)
     return Certificate(
@@ -480,7 +486,7 @@ def run(
     cert = certify(
         best["r"], best["k"], best["gamma_deg"], tolerance, stroke, dense, local, 720, workers
     )
-    success = best["S_max"] >= stroke and best["deviation"] <= tolerance
+    success = _feasible(best, tolerance, stroke)
     data.update(
         best=best,
         seed=seed,

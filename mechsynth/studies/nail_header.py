@@ -17,16 +17,11 @@ import numpy as np
 
 from ..dynamics.equation_of_motion import energy_method_flywheel, size_flywheel
 from ..dynamics.nail_header import NailHeader
-from ..dynamics.nail_header_drive import (
-    MOTOR_ASSUMPTION,
-    crank_speed,
-    nail_header_drive,
-    nail_header_speed_fluctuation,
-)
+from ..dynamics.nail_header_drive import MOTOR_ASSUMPTION, nail_header_speed_fluctuation
 from ..objectives.forces import reaction_affine_map
 from ..report import StudyResult
 from ..synthesis.convex import minimax_affine
-from ..units import cycle
+from ..units import cycle, to_rpm
 
 __all__ = ["run", "PUBLISHED", "published_table"]
 
@@ -171,19 +166,19 @@ def run(out=None, angles=1440, scan_step=0.5):
             NailHeader(m3=m3, sigma_t=0.0, c1=0.0), gear_ratio=r["gear_ratio"], n=360
         )
         drive[m3] = r
-        row = {k: v for k, v in r.items() if k not in ("ivp", "stepping")}
+        row = {k: v for k, v in r.items() if k not in ("ivp", "stepping", "model", "motor")}
         row["delta_without_upsetting"] = idle["delta"]
         speed_rows.append(row)
     speed = {"motor": dict(MOTOR_ASSUMPTION), "rows": speed_rows}
     # the price of the reaction-optimal slider in speed fluctuation, and the flywheel on the
     # crankshaft that holds the 15 kg machine's fluctuation with it
-    heavy = NailHeader(m3=opt["R32"]["mass"])
-    model, motor = nail_header_drive(heavy)
+    heavy = nail_header_speed_fluctuation(NailHeader(m3=opt["R32"]["mass"]))
+    model, motor = heavy["model"], heavy["motor"]
     target = speed_rows[0]["delta"]
-    j_fly, cyc = size_flywheel(model, motor, crank_speed(heavy), target)
+    j_fly, cyc = size_flywheel(model, motor, heavy["ivp"].omega_mean, target)
     speed["flywheel"] = {
-        "slider_mass": float(heavy.m3),
-        "delta": float(nail_header_speed_fluctuation(heavy)["delta"]),
+        "slider_mass": heavy["slider_mass"],
+        "delta": heavy["delta"],
         "target_delta": float(target),
         "flywheel_kgm2": float(j_fly),
         "delta_with_flywheel": float(cyc.delta),
@@ -309,24 +304,24 @@ def _write(out, results, table, opt, phi, drive):
     import matplotlib.pyplot as plt
 
     files = []
+
+    def save(fig, name):
+        files.append(out / name)
+        fig.savefig(files[-1], dpi=110)
+        plt.close(fig)
+
     fig, axes = plt.subplots(2, 3, figsize=(12, 8), constrained_layout=True)
     for row, (m3, res) in zip(axes, results.items()):
         for ax, j in zip(row, TRAIN):
             res.hodograph(j, ax=ax, label=f"{j}, m3 = {m3:.0f} kg")
-    p = out / "nail_header_hodographs.png"
-    fig.savefig(p, dpi=110)
-    plt.close(fig)
-    files.append(p)
+    save(fig, "nail_header_hodographs.png")
 
     fig, axes = plt.subplots(2, 2, figsize=(12, 7), constrained_layout=True)
     for col, (m3, res) in enumerate(results.items()):
         res.plot(TRAIN, ax=axes[0, col], angle=_cw_deg, label=f" ({m3:.0f} kg)")
         res.plot(("R43", "R50"), ax=axes[1, col], angle=_cw_deg, label=f" ({m3:.0f} kg)")
         axes[0, col].set_title(f"slider mass {m3:.0f} kg")
-    p = out / "nail_header_reactions.png"
-    fig.savefig(p, dpi=110)
-    plt.close(fig)
-    files.append(p)
+    save(fig, "nail_header_reactions.png")
 
     fig, ax = plt.subplots(figsize=(7, 4), constrained_layout=True)
     for key, o in opt.items():
@@ -337,15 +332,12 @@ def _write(out, results, table, opt, phi, drive):
     ax.set_ylabel("peak reaction, N")
     ax.grid(True, alpha=0.4)
     ax.legend()
-    p = out / "nail_header_slider_mass.png"
-    fig.savefig(p, dpi=110)
-    plt.close(fig)
-    files.append(p)
+    save(fig, "nail_header_slider_mass.png")
 
     fig, axes = plt.subplots(2, 1, figsize=(7, 6), sharex=True, constrained_layout=True)
     for m3, r in drive.items():
         c = r["ivp"]
-        axes[0].plot(np.rad2deg(c.phi), c.omega * 30 / np.pi, label=f"m3 = {m3:.0f} kg")
+        axes[0].plot(np.rad2deg(c.phi), to_rpm(c.omega), label=f"m3 = {m3:.0f} kg")
         axes[1].plot(np.rad2deg(c.phi), -c.load_moment, label=f"m3 = {m3:.0f} kg")
     axes[0].set_ylabel("crank speed, rpm")
     axes[1].set_ylabel("resisting moment at the crank, N m")
@@ -353,10 +345,7 @@ def _write(out, results, table, opt, phi, drive):
     for ax in axes:
         ax.grid(True, alpha=0.4)
         ax.legend()
-    p = out / "nail_header_speed.png"
-    fig.savefig(p, dpi=110)
-    plt.close(fig)
-    files.append(p)
+    save(fig, "nail_header_speed.png")
 
     p = out / "nail_header_table1.csv"
     with p.open("w", newline="") as fh:

@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from ..kinematics.dwell import DwellSliderCrank
-from ..objectives.dwell import best_window_width, dwell_windows, relative_stroke
+from ..objectives.dwell import best_window_width, dwell_metrics
 
 __all__ = ["DwellChart", "dwell_chart_data", "plot_dwell_chart", "write_csv"]
 
@@ -69,8 +69,7 @@ def dwell_chart_data(r, k, gamma_deg, tolerance=0.002, window_deg=90.0, n_angles
     mech = DwellSliderCrank(r=r[None, None, :, None], k=k[None, :, None, None], gamma=g)
     x, y = mech.coupler_curve(phi)
     x, y = np.broadcast_arrays(x, y)
-    win = dwell_windows(phi, x, y, tolerance)
-    s_max = relative_stroke(x, y, win["xi"][..., None])
+    win = dwell_metrics(phi, x, y, tolerance)
     width, _ = best_window_width(phi, x, y, np.deg2rad(window_deg))
     return DwellChart(
         r=r,
@@ -83,7 +82,7 @@ def dwell_chart_data(r, k, gamma_deg, tolerance=0.002, window_deg=90.0, n_angles
         phi_L_deg=np.rad2deg(win["phi_L"]),
         xi_deg=np.rad2deg(win["xi"]),
         E=win["deviation"],
-        S_max=s_max,
+        S_max=win["S_max"],
         width_2E=width,
     )
 
