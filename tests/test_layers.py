@@ -1,5 +1,5 @@
-"""The layers depend only leftwards: kinematics <- dynamics <- objectives <- synthesis <- studies <-
-cli (docs/architecture.md). Checked on the source, including imports inside functions."""
+"""The layers depend only leftwards: kinematics <- dynamics <- objectives <- synthesis <- machines <-
+studies <- cli (docs/architecture.md). Checked on the source, including imports inside functions."""
 
 import ast
 from pathlib import Path
@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 PACKAGE = Path(__file__).resolve().parents[1] / "mechsynth"
-ORDER = ["kinematics", "dynamics", "objectives", "synthesis", "studies"]
+ORDER = ["kinematics", "dynamics", "objectives", "synthesis", "machines", "studies"]
 
 
 def _imported_layers(path: Path):
