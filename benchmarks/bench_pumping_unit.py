@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 import mechsynth as ms
-from mechsynth.dynamics.pump_torque import (
+from mechsynth.machines.pumping_unit import (
     optimal_counterbalance,
     scan_counterbalance,
     torque_curve,

@@ -272,7 +272,7 @@ def _add_pump_parser(sub) -> None:
 
 
 def _pump_analyze(args) -> int:
-    from .pump_analysis import analyze
+    from .machines.pumping_unit.analysis import analyze
 
     result = analyze(args.unit, card=args.card, out=args.out, units=args.units)
     rc = _print_result(result, args)

@@ -1,5 +1,6 @@
-"""The layers depend only leftwards: kinematics <- dynamics <- objectives <- synthesis <- machines <-
-studies <- cli (docs/architecture.md). Checked on the source, including imports inside functions."""
+"""The layers depend only leftwards: kinematics <- dynamics <- objectives <- synthesis <- machines
+<- studies <- cli (docs/architecture.md). Checked on the source, including imports inside
+functions."""
 
 import ast
 from pathlib import Path

@@ -8,7 +8,7 @@ import pytest
 
 import mechsynth as ms
 from mechsynth.cli import main
-from mechsynth.kinematics.pumping_unit import BeamPumpingUnit
+from mechsynth.machines.pumping_unit import BeamPumpingUnit
 from mechsynth.studies.beam_pump import base_design, variants
 from mechsynth.synthesis.problem_file import load_problem
 

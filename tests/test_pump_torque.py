@@ -7,16 +7,17 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import mechsynth as ms
-from mechsynth.dynamics.pump_torque import (
+from mechsynth.machines.pumping_unit import (
+    BeamPumpingUnit,
     Counterbalance,
     DynamometerCard,
+    crank_speed,
     optimal_counterbalance,
     permissible_load,
     scan_counterbalance,
     torque_curve,
     torque_factor_table,
 )
-from mechsynth.kinematics.pumping_unit import BeamPumpingUnit, crank_speed
 
 THETA = np.linspace(0.0, 2 * np.pi, 720, endpoint=False)
 

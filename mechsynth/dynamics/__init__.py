@@ -22,22 +22,12 @@ from .kinetostatics import (
 from .loads import Gravity, PointForce, TabulatedLoad, Torque, TorsionSpring, upsetting_force
 from .motor import InductionMotor, LinearDrive
 from .nail_header import NailHeader
-from .pump_torque import (
-    Counterbalance,
-    DynamometerCard,
-    optimal_counterbalance,
-    permissible_load,
-    torque_curve,
-    torque_factor_table,
-)
 from .reduced import ReducedModel, gravity_moment, point_force_moment, reduced_model
 
 __all__ = ["LinkInertia", "com_track", "kinetic_energy", "reduced_inertia"]
 __all__ += ["InductionMotor", "LinearDrive", "ReducedModel", "gravity_moment"]
 __all__ += ["point_force_moment", "reduced_model", "CycleResult", "energy_method_flywheel"]
 __all__ += ["energy_stepping", "quartic_coefficients", "size_flywheel", "steady_cycle", "run_up"]
-__all__ += ["Counterbalance", "DynamometerCard", "optimal_counterbalance", "permissible_load"]
-__all__ += ["torque_curve", "torque_factor_table"]
 __all__ += ["ForceModel", "ForceResult", "Prismatic", "Revolute", "four_bar_model"]
 __all__ += ["kinetostatics", "slider_crank_model", "Gravity", "PointForce", "TabulatedLoad"]
 __all__ += ["Torque", "TorsionSpring", "upsetting_force", "NailHeader"]

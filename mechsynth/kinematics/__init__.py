@@ -6,7 +6,6 @@ from .compiled import FourBarBatch, SliderCrankBatch, four_bar_batch, slider_cra
 from .dwell import DwellSliderCrank
 from .four_bar import FourBar, Grashof, grashof
 from .mechanism import Mechanism
-from .pumping_unit import BeamPumpingUnit, PumpMotion
 from .slider_crank import SliderCrank
 from .tracks import Jet, LinkTrack, Motion, PointJet, PointTrack, SliderTrack
 
@@ -30,8 +29,6 @@ __all__ = [
     "LinkTrack",
     "SliderTrack",
     "Motion",
-    "BeamPumpingUnit",
-    "PumpMotion",
     "four_bar_formulas",
     "four_bar_batch",
     "slider_crank_batch",

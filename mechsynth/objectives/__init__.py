@@ -15,7 +15,6 @@ from .kinematic import (
     swing_angle,
     time_ratio,
 )
-from .pumping import PUMPING_MEASURES, peak_torque_factor
 
 __all__ = ["Measure", "CycleMeasure", "ScalarMeasure", "Combination", "Constraint", "reduce_cycle"]
 __all__ += [
@@ -31,5 +30,4 @@ __all__ += [
     "peak_angular_acceleration",
     "KINEMATIC_MEASURES",
 ]
-__all__ += ["peak_torque_factor", "PUMPING_MEASURES"]
 __all__ += ["peak_reaction", "peak_torque", "rms_torque", "reaction_affine_map"]

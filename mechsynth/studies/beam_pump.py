@@ -26,19 +26,17 @@ from pathlib import Path
 
 import numpy as np
 
-from ..dynamics.pump_torque import (
+from ..machines.pumping_unit import (
+    BeamPumpingUnit,
     DynamometerCard,
+    harmonic_approximation,
     optimal_counterbalance,
+    paper_crank_and_pitman,
+    peak_torque_factor,
     torque_curve,
     torque_factor_table,
 )
-from ..kinematics.pumping_unit import (
-    BeamPumpingUnit,
-    harmonic_approximation,
-    paper_crank_and_pitman,
-)
 from ..objectives import max_pressure_angle, peak_acceleration, stroke
-from ..objectives.pumping import peak_torque_factor
 from ..units import cycle, deg, spm
 from . import StudyResult
 

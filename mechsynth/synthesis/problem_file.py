@@ -52,10 +52,8 @@ from typing import Any
 import numpy as np
 
 from ..kinematics import FourBar, SliderCrank
-from ..kinematics.pumping_unit import BeamPumpingUnit
 from ..objectives.base import Constraint, Measure
 from ..objectives.kinematic import KINEMATIC_MEASURES
-from ..objectives.pumping import PUMPING_MEASURES
 from .problem import Problem
 
 __all__ = [
@@ -73,11 +71,9 @@ __all__ = [
 
 #: mechanism name in problem files -> class
 MECHANISMS: dict[str, type] = {"slider-crank": SliderCrank, "four-bar": FourBar}
-MECHANISMS["beam-pump"] = BeamPumpingUnit
 
 #: measure name in problem files -> factory returning a Measure
 MEASURES: dict[str, Any] = dict(KINEMATIC_MEASURES)
-MEASURES.update(PUMPING_MEASURES)
 
 #: unit -> factor to SI
 UNITS: dict[str, float] = {

@@ -37,16 +37,16 @@ from typing import Any
 
 import numpy as np
 
-from .dynamics.pump_torque import (
+from ...report import StudyResult
+from ...units import spm as spm_to_rad_s
+from .beam_unit import BeamPumpingUnit, crank_speed
+from .torque import (
     DynamometerCard,
     optimal_counterbalance,
     permissible_load,
     torque_curve,
     torque_factor_table,
 )
-from .kinematics.pumping_unit import BeamPumpingUnit, crank_speed
-from .studies import StudyResult
-from .units import spm as spm_to_rad_s
 
 __all__ = ["load_unit", "analyze", "UNIT_KEYS", "OUTPUT_UNITS"]
 
@@ -319,7 +319,7 @@ def _write(out, unit, theta, m, tc, pl, U, cv, data):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from .jsonutil import dumps
+    from ...jsonutil import dumps
 
     out.mkdir(parents=True, exist_ok=True)
     files = []

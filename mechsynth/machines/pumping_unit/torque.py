@@ -1,7 +1,7 @@
 """Gearbox torque of a beam pumping unit, counterbalance and the permissible load diagram.
 
 Sign conventions (SI: N, N m, m, rad; crank angle ``theta`` as in
-:mod:`mechsynth.kinematics.pumping_unit`: from 12 o'clock in the direction of rotation)
+:mod:`mechsynth.machines.pumping_unit.beam_unit`: from 12 o'clock in the direction of rotation)
 -------------------------------------------------------------------------------------------
 * Polished-rod load ``W`` (N) acts downward on the rod; a dynamometer card gives it against the
   polished-rod position (up from the bottom of the stroke).
@@ -31,8 +31,8 @@ from typing import Any
 
 import numpy as np
 
-from ..kinematics.mechanism import check_finite
-from ..kinematics.pumping_unit import BeamPumpingUnit
+from ...kinematics.mechanism import check_finite
+from .beam_unit import BeamPumpingUnit
 
 __all__ = [
     "DynamometerCard",

@@ -39,12 +39,18 @@ from typing import ClassVar
 
 import numpy as np
 
-from . import ops
-from .blocks import crank as crank_block
-from .blocks import dyad_rrr, link_angle
-from .four_bar import FourBar
-from .mechanism import Mechanism, check_finite, check_length, fail_where, speed_pair
-from .tracks import Jet, LinkTrack, Motion, PointJet, PointTrack, SliderTrack
+from ...kinematics import ops
+from ...kinematics.blocks import crank as crank_block
+from ...kinematics.blocks import dyad_rrr, link_angle
+from ...kinematics.four_bar import FourBar
+from ...kinematics.mechanism import (
+    Mechanism,
+    check_finite,
+    check_length,
+    fail_where,
+    speed_pair,
+)
+from ...kinematics.tracks import Jet, LinkTrack, Motion, PointJet, PointTrack, SliderTrack
 
 __all__ = [
     "BeamPumpingUnit",
@@ -284,7 +290,7 @@ class BeamPumpingUnit(Mechanism):
         with the given beam arms and centre-bearing position (see
         :func:`paper_crank_and_pitman`). The stroke of the result is verified by the exact
         position analysis to ``rtol`` (MechanismError otherwise)."""
-        from ..errors import MechanismError
+        from ...errors import MechanismError
 
         stroke = check_length("stroke", stroke)
         front_arm = check_length("front_arm", front_arm)

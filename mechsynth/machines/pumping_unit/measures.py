@@ -1,4 +1,4 @@
-"""Measures of beam pumping units (:class:`~mechsynth.kinematics.BeamPumpingUnit`).
+"""Measures of beam pumping units (:class:`~mechsynth.machines.pumping_unit.BeamPumpingUnit`).
 
 The polished rod is the unit's main slider (``"slider"`` / ``"polished_rod"``), so the kinematic
 measures apply directly (``peak_acceleration("slider")``, ``stroke("slider")``,
@@ -7,7 +7,7 @@ measures apply directly (``peak_acceleration("slider")``, ``stroke("slider")``,
 
 from __future__ import annotations
 
-from .base import CycleMeasure
+from ...objectives.base import CycleMeasure
 
 __all__ = ["peak_torque_factor", "PUMPING_MEASURES"]
 
@@ -22,7 +22,7 @@ def _tf(mechanism, motion):
 def peak_torque_factor() -> CycleMeasure:
     """Largest |torque factor| over the cycle (m/rad; crank torque per unit polished-rod load),
     whatever the crank speed of the motion. Smooth branches ``(TF, -TF)``."""
-    from ..kinematics import ops
+    from ...kinematics import ops
 
     return CycleMeasure(
         "peak_torque_factor",
