@@ -11,7 +11,7 @@ angles and designs), CasADi exact derivatives for IPOPT, and cvxpy convex subpro
 from . import kinematics, objectives
 from .errors import MechanismError, SolverError
 from .kinematics import FourBar, Motion, SliderCrank
-from .machines.pumping_unit import BeamPumpingUnit
+from .machines.pumping_unit import BeamPumpingUnit, SpatialPumpingUnit
 from .synthesis import Problem, Result
 from .units import cycle, deg, dms, inch, rpm, spm, to_deg, to_inch, to_rpm
 
@@ -27,6 +27,7 @@ __all__ = [
     "SliderCrank",
     "FourBar",
     "BeamPumpingUnit",
+    "SpatialPumpingUnit",
     "Motion",
     "cycle",
     "deg",

@@ -6,6 +6,11 @@
   permissible load.
 * :mod:`.measures` — the torque-factor measure for synthesis problems.
 * :mod:`.analysis` — ``mechsynth pump analyze``: one unit from a TOML file and a card.
+* :mod:`.spatial_unit`, :mod:`.spatial_forces`, :mod:`.spatial_design` — the spatial
+  double-crank drive of paper 002 (:class:`SpatialPumpingUnit`): 3-D kinematics, kinetostatics
+  with redundant constraints closed by the pitmans' elasticity, tolerances, counterbalance.
+* :mod:`.paper002` — paper 002's printed equations as residuals, and their errata.
+* :mod:`.rod_string` — a predicted dynamometer card from the wave equation of the rod string.
 
 ``ms.BeamPumpingUnit`` is the public name of the unit; ``mechanism = "beam-pump"`` names it in
 problem files.
@@ -22,6 +27,23 @@ from .beam_unit import (
     paper_crank_and_pitman,
 )
 from .measures import PUMPING_MEASURES, peak_torque_factor
+from .rod_string import RodString, wave_equation_card
+from .spatial_design import (
+    CounterbalanceSizing,
+    size_counterbalance,
+    split_curve,
+    split_map,
+    tolerance,
+    tolerance_design_chart,
+)
+from .spatial_forces import (
+    SpatialForces,
+    SpatialMasses,
+    planar_torque,
+    power_balance,
+    spatial_forces,
+)
+from .spatial_unit import DEVIATIONS, SpatialPumpingUnit, SpatialPumpMotion
 from .torque import (
     Counterbalance,
     DynamometerCard,
@@ -53,6 +75,22 @@ __all__ = [
     "scan_counterbalance",
     "permissible_load",
     "torque_factor_table",
+    "SpatialPumpingUnit",
+    "SpatialPumpMotion",
+    "SpatialMasses",
+    "SpatialForces",
+    "DEVIATIONS",
+    "spatial_forces",
+    "planar_torque",
+    "power_balance",
+    "split_curve",
+    "split_map",
+    "tolerance",
+    "tolerance_design_chart",
+    "size_counterbalance",
+    "CounterbalanceSizing",
+    "RodString",
+    "wave_equation_card",
 ]
 
 register_mechanism("beam-pump", BeamPumpingUnit)

@@ -147,11 +147,15 @@ class DynamometerCard:
     def load_at(self, unit: BeamPumpingUnit, theta) -> np.ndarray:
         """Polished-rod load (N) at the unit's crank angles ``theta``."""
         theta = np.asarray(theta, dtype=float)
-        m = unit.motion(theta)
-        frac = np.asarray(m.polished_rod.position) / float(unit.stroke)
+        return self.load_on(unit.motion(theta), unit.stroke)
+
+    def load_on(self, motion, stroke) -> np.ndarray:
+        """Polished-rod load (N) along a unit's ``motion`` (anything with ``polished_rod`` and
+        ``torque_factor``) of the given ``stroke`` (m; an array for a batch of designs)."""
+        frac = np.asarray(motion.polished_rod.position) / np.asarray(stroke, dtype=float)
         x = frac * self.stroke
         (xu, wu), (xd, wd) = self.branches()
-        rising = np.asarray(m.torque_factor) >= 0.0
+        rising = np.asarray(motion.torque_factor) >= 0.0
         return np.where(rising, np.interp(x, xu, wu), np.interp(x, xd, wd))
 
 
