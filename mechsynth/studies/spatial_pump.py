@@ -1,0 +1,887 @@
+"""Paper 002: the spatial drive of a 7SK12-class pumping unit, redundant against rational.
+
+The unit (every number an assumption of this study unless the paper prints it)
+-------------------------------------------------------------------------------
+The paper analyses a 7SK12-2.5-5600 (stroke 2.5 m, 12 t polished-rod load, 5600 kgf m = 54.9 kN m
+reducer torque) but prints none of its dimensions, masses or its card. Here:
+
+* **geometry**: the API 11E geometry of a conventional unit of the same class (structure 256 =
+  25,600 lb = 11.6 t, the SLB catalogue's C-320D-256-120: A = 155, C = 111.06, I = 111.02,
+  P = 132.01, H = 231.97, G = 95.98 in) with the crank radius solved so that the exact stroke is
+  2.5 m (R = 34.548 in = 0.8775 m); clockwise with the well on the right;
+* **spatial drive**: crank arms and equalizer bearings 1.2 m apart (parallel pitmans);
+* **pitmans**: paper 002's section, E = 2.1e11 Pa, J_z = 1.176e-6 m^4 (round, d = 70 mm, taken
+  for J_y and the torsion too), mass 7850 kg/m^3 x area x length = 101 kg each;
+* **masses**: beam 1500 kg (centre of mass 0.6 m behind the saddle bearing, 6000 kg m^2),
+  horsehead 500 kg (3.6 m ahead, 150 kg m^2), equalizer 150 kg, cranks and counterweights
+  6000 kg m^2 about the shaft: a structural unbalance of about 1.2 kN, typical of the class;
+* **card**: predicted by the damped wave equation of the rod string
+  (:mod:`mechsynth.machines.pumping_unit.rod_string`): 1700 m of 22 mm steel rods, a 56 mm
+  pump, 1500 m net lift, fluid 900 kg/m^3, damping factor 0.15, at 6 strokes/min, driven by this
+  unit's exact polished-rod motion (peak 90 kN, minimum 31 kN). It is bundled
+  (``data/spatial_pump_card.csv``, regenerated and compared in the tests); ``card=PATH`` takes
+  another (CSV of position m, load N);
+* **assembly deviations** of the "as built" case (study options): phase mismatch 0.25 deg, crank
+  radii 1 mm apart, pitmans 2 mm apart, shaft 0.5 mrad out of level and 1 mrad out of square,
+  saddle-bearing axis 0.5 mrad / 0.5 mrad, equalizer bearing 2 mm off centre.
+
+What is computed
+----------------
+The ideal drive (checked against the planar unit), the redundant (revolute) and rational
+(spherical) drives as built over the cycle: pitman forces and their split, the reactions at A and
+A1 against the paper's reported differences, the crank torque, the pitmans' twisting and bending
+moments; the split against each deviation alone; the tolerance of each (split <= ``limit``); a
+tolerance chart over phase mismatch and crank-radius difference together; a design chart of the
+tolerances against the equalizer width and the pitmans' bending stiffness; the counterbalance
+that minimizes the peak crank torque of each drive (certified LP).
+"""
+
+from __future__ import annotations
+
+import csv
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ..machines.pumping_unit import BeamPumpingUnit, DynamometerCard, optimal_counterbalance
+from ..machines.pumping_unit.paper002 import ERRATA, angle_between_pitmans, paper_bending_moment
+from ..machines.pumping_unit.rod_string import RodString, wave_equation_card
+from ..machines.pumping_unit.spatial_design import (
+    size_counterbalance,
+    split_curves,
+    split_map,
+    tolerance,
+    tolerance_design_chart,
+)
+from ..machines.pumping_unit.spatial_forces import SpatialMasses, planar_torque, power_balance
+from ..machines.pumping_unit.spatial_unit import DEVIATIONS, SpatialPumpingUnit
+from ..units import spm as spm_to_rad
+from . import StudyResult
+
+#: API 11E geometry (in) of the 256-structure conventional unit; R is solved for the stroke
+API_GEOMETRY = {"A": 155.0, "C": 111.06, "I": 111.02, "P": 132.01, "H": 231.97, "G": 95.98}
+STROKE = 2.5  # m
+RATED_LOAD = 12e3 * 9.80665  # N (12 t)
+RATED_TORQUE = 5600.0 * 9.80665  # N m (5600 kgf m)
+STEEL_DENSITY = 7850.0
+WELL = RodString(
+    depth=1700.0,
+    diameter=0.022,
+    pump_diameter=0.056,
+    lift=1500.0,
+    fluid_density=900.0,
+    damping=0.15,
+)
+CARD_SPM = 6.0
+CARD_NODES = 50  # grid-converged: 50, 100 and 200 nodes agree to 0.02 % in peak load
+CARD_POINTS = 360  # one sample per degree of crank angle
+CARD_FILE = Path(__file__).with_name("data") / "spatial_pump_card.csv"
+#: the paper's reported differences (kN, kN m): reactions vs rational, between pitmans, torque
+PAPER_DIFFERENCES = {
+    "R12y_vs_rational": 6.9,
+    "R13y_vs_rational": 5.6,
+    "R12y_vs_R13y": 10.0,
+    "R12x_vs_R13x_near_dead_centres": 6.7,
+    "crank_torque_vs_rational": 20.0,
+}
+#: study option -> (deviation, factor to SI)
+OPTION_UNITS = {
+    "phase_mismatch_deg": ("phase_mismatch", np.pi / 180.0),
+    "crank_difference_mm": ("crank_difference", 1e-3),
+    "pitman_difference_mm": ("pitman_difference", 1e-3),
+    "shaft_tilt_mrad": ("shaft_tilt", 1e-3),
+    "shaft_skew_mrad": ("shaft_skew", 1e-3),
+    "beam_tilt_mrad": ("beam_tilt", 1e-3),
+    "beam_skew_mrad": ("beam_skew", 1e-3),
+    "equalizer_offset_mm": ("equalizer_offset", 1e-3),
+}
+DISPLAY = {dev: (opt.rsplit("_", 1)[1], 1.0 / f) for opt, (dev, f) in OPTION_UNITS.items()}
+#: the largest value of each deviation swept (SI)
+SWEEP_MAX = {
+    "phase_mismatch": np.deg2rad(1.0),
+    "crank_difference": 8e-3,
+    "pitman_difference": 8e-3,
+    "shaft_tilt": 4e-3,
+    "shaft_skew": 50e-3,  # the skew of the shaft matters an order of magnitude less
+    "beam_tilt": 4e-3,
+    "beam_skew": 4e-3,
+    "equalizer_offset": 10e-3,
+}
+
+
+def unit_7sk12() -> BeamPumpingUnit:
+    """The planar 7SK12-class unit: the 256-structure API geometry with the crank radius that
+    gives an exact 2.5 m stroke (brentq on the analysed stroke)."""
+    from scipy.optimize import brentq
+
+    def stroke_error(r_in):
+        return float(BeamPumpingUnit.from_api(R=r_in, units="in", **API_GEOMETRY).stroke) - STROKE
+
+    r = brentq(stroke_error, 20.0, 45.0, xtol=1e-13, rtol=1e-15)
+    return BeamPumpingUnit.from_api(R=r, units="in", **API_GEOMETRY)
+
+
+def masses_7sk12(unit: SpatialPumpingUnit) -> SpatialMasses:
+    """The study's assumed masses (module notes); the pitman's from its section."""
+    pitman = STEEL_DENSITY * unit.pitman_section.area * float(unit.pitman)
+    return SpatialMasses(
+        pitman=pitman,
+        equalizer=150.0,
+        beam=1500.0,
+        beam_com=(-0.6, 0.0),
+        beam_inertia=6000.0,
+        head=500.0,
+        head_com=(3.6, 0.0),
+        head_inertia=150.0,
+        crank_inertia=6000.0,
+    )
+
+
+def make_example_card(path=None):
+    """Compute the bundled card (wave equation, :data:`WELL`, 6 SPM) and write it to ``path``
+    (default: the bundled file). Returns ``(card, info)``."""
+    card, info = wave_equation_card(
+        unit_7sk12(), WELL, spm_to_rad(CARD_SPM), nodes=CARD_NODES, points=CARD_POINTS
+    )
+    if path is not None:
+        with open(path, "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(["position_m", "load_N"])
+            fh.write(f"# {card.source}; one cycle from the bottom of the stroke\n")
+            for x, f in zip(card.position, card.load):
+                w.writerow([f"{x:.9f}", f"{f:.6f}"])
+    return card, info
+
+
+def example_card() -> DynamometerCard:
+    """The bundled example card of the study (m, N)."""
+    return DynamometerCard.from_csv(CARD_FILE)
+
+
+def _deviations(options) -> dict[str, float]:
+    out = {}
+    for opt, (dev, factor) in OPTION_UNITS.items():
+        v = float(options[opt])
+        if not np.isfinite(v):
+            raise ValueError(f"option {opt} must be finite, got {v}")
+        out[dev] = v * factor
+    return out
+
+
+def _near(theta, centres, half_width):
+    d = np.abs(np.angle(np.exp(1j * (theta[:, None] - np.asarray(centres)[None, :]))))
+    return np.min(d, axis=1) <= half_width
+
+
+def _paper_comparison(theta, rev, rat, dead):
+    r12, r13 = rev.reactions["R12"].force, rev.reactions["R13"].force
+    o12, o13 = rat.reactions["R12"].force, rat.reactions["R13"].force
+    near = _near(theta, dead, np.deg2rad(15.0))
+    d12 = r12[:, 1] - o12[:, 1]
+    d13 = r13[:, 1] - o13[:, 1]
+    i12, i13 = int(np.argmax(np.abs(d12))), int(np.argmax(np.abs(d13)))
+    return {
+        "R12y_vs_rational": float(np.abs(d12).max()) / 1e3,
+        "R12y_vs_rational_sign": float(np.sign(d12[i12])),
+        "R13y_vs_rational": float(np.abs(d13).max()) / 1e3,
+        "R13y_vs_rational_sign": float(np.sign(d13[i13])),
+        "R12y_vs_R13y": float(np.abs(r12[:, 1] - r13[:, 1]).max()) / 1e3,
+        "R12x_vs_R13x_near_dead_centres": float(np.abs(r12[near, 0] - r13[near, 0]).max()) / 1e3,
+        "crank_torque_vs_rational": float(np.abs(rev.crank_torque - rat.crank_torque).max()) / 1e3,
+        "max_M_R12x": float(np.abs(rev.reactions["R12"].moment[:, 0]).max()),
+        "max_R12z": float(np.abs(r12[:, 2]).max()) / 1e3,
+    }
+
+
+def run(
+    out=None,
+    n_angles=360,
+    spm=6.0,
+    card="",
+    crank_spacing=1.2,
+    equalizer_width=1.2,
+    phase_mismatch_deg=0.25,
+    crank_difference_mm=1.0,
+    pitman_difference_mm=2.0,
+    shaft_tilt_mrad=0.5,
+    shaft_skew_mrad=1.0,
+    beam_tilt_mrad=0.5,
+    beam_skew_mrad=0.5,
+    equalizer_offset_mm=2.0,
+    limit=0.05,
+    sweep_angles=90,
+    sweep_points=6,
+    chart_points=9,
+    design_points=6,
+    stiffness_factors=(0.5, 1.0, 2.0, 4.0),
+    sizing_angles=120,
+):
+    """Run the study (see the module notes). Deviation options are in deg, mm and mrad;
+    ``limit`` is the tolerated pitman load split (fraction); ``card`` a CSV path (m, N) or ""
+    for the bundled card; the ``*_points`` and ``*_angles`` options set the sweeps' resolution;
+    ``stiffness_factors`` the multiples of the pitmans' bending stiffness in the design chart."""
+    t0 = time.perf_counter()
+    options = dict(locals())
+    for name in (
+        "n_angles",
+        "sweep_angles",
+        "sweep_points",
+        "chart_points",
+        "design_points",
+        "sizing_angles",
+    ):
+        if int(options[name]) < 3:
+            raise ValueError(f"option {name} must be at least 3, got {options[name]}")
+    if not 0.0 < float(limit) < 1.0:
+        raise ValueError(f"option limit must be a fraction in (0, 1), got {limit}")
+    if not float(spm) > 0.0:
+        raise ValueError(f"option spm must be positive, got {spm}")
+    if not np.all(np.asarray(stiffness_factors, dtype=float) > 0.0):
+        raise ValueError(f"option stiffness_factors must be positive, got {stiffness_factors}")
+    dev = _deviations(options)
+    speed = spm_to_rad(float(spm))
+    theta = np.linspace(0.0, 2.0 * np.pi, int(n_angles), endpoint=False)
+    sweep_theta = np.linspace(0.0, 2.0 * np.pi, int(sweep_angles), endpoint=False)
+    planar = unit_7sk12()
+    if card:
+        path = Path(card)
+        if not path.is_file():
+            raise ValueError(f"card file {card!r} not found")
+        load = DynamometerCard.from_csv(path)
+        card_source = str(path)
+    else:
+        load = example_card()
+        card_source = "bundled wave-equation card (data/spatial_pump_card.csv)"
+    ideal = SpatialPumpingUnit.from_planar(planar, crank_spacing, equalizer_width)
+    masses = masses_7sk12(ideal)
+    built = ideal.replace(**dev)
+    units = {
+        ("revolute", "ideal"): ideal,
+        ("spherical", "ideal"): ideal.with_joints("spherical"),
+        ("revolute", "built"): built,
+        ("spherical", "built"): built.with_joints("spherical"),
+    }
+
+    # the counterbalance: of the planar unit (LP; the ideal spatial drive has its torque), used
+    # for every cycle below; then sized anew for each drive as built (certified LP)
+    t0_planar = planar_torque(ideal, theta, speed, load=load, masses=masses)
+    planar_cb = optimal_counterbalance(theta, t0_planar, phase=0.0, cross_check=False)
+    cb = planar_cb.counterbalance
+    sizing = {}
+    for key, label in (
+        (("revolute", "built"), "revolute as built"),
+        (("spherical", "built"), "rational as built"),
+    ):
+        sizing[label] = size_counterbalance(
+            units[key],
+            speed,
+            load,
+            masses,
+            phase=0.0,
+            angles=int(sizing_angles),
+            n_dense=4 * int(sizing_angles),
+        )
+    forces = {
+        k: u.forces(theta, speed, load=load, counterbalance=cb, masses=masses)
+        for k, u in units.items()
+    }
+    t_planar = planar_torque(ideal, theta, speed, load=load, counterbalance=cb, masses=masses)
+    dead = np.asarray(planar.dead_centres, dtype=float)
+
+    checks = {}
+    for joints in ("revolute", "spherical"):
+        f = forces[(joints, "ideal")]
+        checks[f"ideal_{joints}_torque_vs_planar"] = float(
+            np.max(np.abs(f.crank_torque - t_planar)) / np.max(np.abs(t_planar))
+        )
+        checks[f"ideal_{joints}_split"] = float(f.peak_split)
+        checks[f"ideal_{joints}_rod_motion_vs_planar"] = float(
+            np.max(
+                np.abs(f.motion.polished_rod.position - planar.motion(theta).polished_rod.position)
+            )
+        )
+        for state in ("ideal", "built"):
+            pb = power_balance(forces[(joints, state)], cb)
+            checks[f"power_balance_{joints}_{state}"] = float(
+                np.max(np.abs(pb["error"])) / np.max(np.abs(pb["drive"]))
+            )
+            if state == "built":
+                checks[f"pair_moment_power_{joints}_built_W"] = float(
+                    np.max(np.abs(pb["pair_moments"]))
+                )
+                checks[f"unbalanced_power_{joints}_built_W"] = float(
+                    np.max(np.abs(pb["unbalanced"]))
+                )
+        checks[f"self_stress_states_{joints}"] = int(forces[(joints, "built")].info["nullity"])
+        checks[f"loop_closure_{joints}_built_m"] = float(
+            np.max(forces[(joints, "built")].motion.extra["residual"])
+        )
+    checks["rational_built_unbalanced_N"] = float(np.max(forces[("spherical", "built")].residual))
+
+    rev, rat = forces[("revolute", "built")], forces[("spherical", "built")]
+    comparison = _paper_comparison(theta, rev, rat, dead)
+
+    # the phase mismatch alone that gives the paper's 10 kN between the pitmans' y reactions
+    probe = np.deg2rad(0.1)
+    fp = ideal.replace(phase_mismatch=probe).forces(
+        theta, speed, load=load, counterbalance=cb, masses=masses
+    )
+    dy = np.max(np.abs(fp.reactions["R12"].force[:, 1] - fp.reactions["R13"].force[:, 1]))
+    phase_10kn = probe * 10e3 / dy
+    fchk = ideal.replace(phase_mismatch=phase_10kn).forces(
+        theta, speed, load=load, counterbalance=cb, masses=masses
+    )
+    dy_chk = np.max(np.abs(fchk.reactions["R12"].force[:, 1] - fchk.reactions["R13"].force[:, 1]))
+
+    # the paper's bending formula (20) against the compatible solution, as built
+    dbeta = angle_between_pitmans(rev.motion)
+    sec = ideal.pitman_section
+    paper_force = paper_bending_moment(sec.E, sec.J_z, dbeta, float(ideal.pitman))
+    bending_b = np.maximum(rev.elastic["left"]["bending_B"], rev.elastic["right"]["bending_B"])
+
+    # sweeps of each deviation alone, both drives (each drive one batch)
+    values = {n: np.linspace(0.0, SWEEP_MAX[n], int(sweep_points)) for n in DEVIATIONS}
+    sweep = {
+        joints: split_curves(ideal.with_joints(joints), values, sweep_theta, speed, load, masses)
+        for joints in ("revolute", "spherical")
+    }
+    curves = {
+        n: {
+            "values": values[n],
+            "revolute": sweep["revolute"][n],
+            "spherical": sweep["spherical"][n],
+        }
+        for n in DEVIATIONS
+    }
+    # tolerances: the (nearly linear) sweep gives the first guess; a drive whose split stays
+    # far below the limit over the sweep is reported as tolerating more than the sweep's end
+    tols = {}
+    for joints in ("revolute", "spherical"):
+        reach = {n: sweep[joints][n][-1] for n in DEVIATIONS}
+        search = [n for n in DEVIATIONS if reach[n] > limit / 8.0]
+        starts = {n: SWEEP_MAX[n] * limit / reach[n] for n in search}
+        found = tolerance(
+            ideal.with_joints(joints),
+            search,
+            sweep_theta,
+            speed,
+            load,
+            masses,
+            limit=limit,
+            start=starts,
+            maximum={n: 8 * SWEEP_MAX[n] for n in search},
+        )
+        for n in DEVIATIONS:
+            if n not in found:
+                found[n] = {
+                    "value": None,
+                    "split": float(reach[n]),
+                    "bracket": (SWEEP_MAX[n], None),
+                    "evaluations": 0,
+                }
+        tols[joints] = found
+    tol_rev, tol_rat = tols["revolute"], tols["spherical"]
+
+    # tolerance chart: phase mismatch and crank-radius difference together
+    cp = int(chart_points)
+    v1 = np.linspace(
+        0.0, 2.0 * _finite(tol_rev["phase_mismatch"]["value"], SWEEP_MAX["phase_mismatch"]), cp
+    )
+    v2 = np.linspace(
+        0.0, 2.0 * _finite(tol_rev["crank_difference"]["value"], SWEEP_MAX["crank_difference"]), cp
+    )
+    chart = split_map(
+        ideal, "phase_mismatch", v1, "crank_difference", v2, sweep_theta, speed, load, masses
+    )
+
+    # design chart: tolerance against the equalizer width and the pitmans' bending stiffness
+    widths = np.linspace(0.8, 1.6, int(design_points))
+    factors = np.atleast_1d(np.asarray(stiffness_factors, dtype=float))
+    design = {}
+    for name in ("phase_mismatch", "crank_difference", "shaft_tilt"):
+        tol, chk = tolerance_design_chart(
+            ideal, name, widths, factors, sweep_theta, speed, load, masses, limit=limit
+        )
+        design[name] = {"tolerance": tol, "check": chk}
+
+    tables = {
+        "tolerance": {
+            n: {
+                "revolute": tol_rev[n]["value"],
+                "revolute_split": tol_rev[n]["split"],
+                "rational": tol_rat[n]["value"],
+                "rational_split": tol_rat[n]["split"],
+                "rational_bracket_low": tol_rat[n]["bracket"][0],
+            }
+            for n in DEVIATIONS
+        }
+    }
+    fl, fr = rev.pitman_force["left"], rev.pitman_force["right"]
+    cycle_summary = {k: forces[k].to_dict() for k in forces}
+    data = {
+        "success": bool(all(s.success for s in sizing.values())),
+        "unit": {
+            "crank_m": float(planar.crank),
+            "pitman_m": float(planar.pitman),
+            "rear_arm_m": float(planar.rear_arm),
+            "front_arm_m": float(planar.front_arm),
+            "pivot_m": [float(planar.pivot_x), float(planar.pivot_y)],
+            "stroke_m": float(planar.stroke),
+            "crank_spacing_m": float(crank_spacing),
+            "equalizer_width_m": float(equalizer_width),
+            "pitman_section": {
+                "E": sec.E,
+                "J_z": sec.J_z,
+                "J_y": sec.J_y,
+                "J_p": sec.J_p,
+                "area": sec.area,
+            },
+            "masses": {k: v for k, v in masses.__dict__.items()},
+            "speed_spm": float(spm),
+            "rated_load_N": RATED_LOAD,
+            "rated_torque_Nm": RATED_TORQUE,
+        },
+        "card": {
+            "source": card_source,
+            "peak_load_N": float(np.max(load.load)),
+            "min_load_N": float(np.min(load.load)),
+            "load_fraction_of_rating": float(np.max(load.load) / RATED_LOAD),
+        },
+        "deviations_as_built": {k: float(v) for k, v in dev.items()},
+        "checks": checks,
+        "cycles": {f"{j}_{s}": v for (j, s), v in cycle_summary.items()},
+        "paper_comparison": {"computed_as_built": comparison, "published": PAPER_DIFFERENCES},
+        "phase_mismatch_for_10kN_deg": float(np.rad2deg(phase_10kn)),
+        "phase_mismatch_for_10kN_check_kN": float(dy_chk / 1e3),
+        "paper_eq20_vs_compatible": {
+            "max_paper_eq20_N": float(np.max(np.abs(paper_force))),
+            "max_paper_eq20_as_moment_Nm": float(np.max(np.abs(paper_force)) * float(ideal.pitman)),
+            "max_bending_at_B_Nm": float(np.max(bending_b)),
+            "max_dbeta23_deg": float(np.rad2deg(np.max(np.abs(dbeta)))),
+        },
+        "tolerances": tables["tolerance"],
+        "limit": float(limit),
+        "counterbalance_planar_ideal": planar_cb.to_dict(),
+        "counterbalance": {k: s.to_dict() for k, s in sizing.items()},
+        "gearbox_loading": {k: s.peak_torque / RATED_TORQUE for k, s in sizing.items()},
+        "pitman_split_as_built": {
+            "revolute_peak": float(rev.peak_split),
+            "rational_peak": float(rat.peak_split),
+            "revolute_max_difference_kN": float(np.max(np.abs(fl - fr)) / 1e3),
+        },
+        "run_time_s": None,
+        "options": {k: v for k, v in options.items() if k != "out"},
+    }
+    errata = list(ERRATA) + _computed_errata(data)
+    data["run_time_s"] = time.perf_counter() - t0  # the computation, figures not included
+    files = []
+    if out is not None:
+        files = _write(
+            Path(out),
+            theta,
+            planar,
+            forces,
+            t_planar,
+            cb,
+            curves,
+            tol_rev,
+            tol_rat,
+            v1,
+            v2,
+            chart,
+            widths,
+            factors,
+            design,
+            load,
+            data,
+            limit,
+            dbeta,
+            paper_force,
+        )
+    return StudyResult("spatial-pump", _summary(data, tol_rev, tol_rat), data, files, errata)
+
+
+def _finite(v, default):
+    return float(v) if v is not None and np.isfinite(v) else float(default)
+
+
+def _computed_errata(data) -> list[str]:
+    c = data["paper_comparison"]["computed_as_built"]
+    out = [
+        "The balancing torque of the drive with redundant constraints cannot differ from the "
+        "rational one by 20 kN m: by the energy balance the difference is the power the pairs' "
+        "reaction moments absorb on the rigid motion (the rate of the pitmans' strain energy), "
+        f"here at most {data['checks']['pair_moment_power_revolute_built_W']:.3g} W; the computed "
+        f"torques differ by {c['crank_torque_vs_rational'] * 1e3:.3g} N m as built.",
+    ]
+    return out
+
+
+def _fmt_dev(name, value):
+    unit, factor = DISPLAY[name]
+    return f"{value * factor:.3g} {unit}"
+
+
+def _fmt_tol(name, entry):
+    """A tolerance, or "> x" when the split stayed within the limit up to x."""
+    if entry["value"] is None:
+        return "> " + _fmt_dev(name, entry["bracket"][0])
+    return _fmt_dev(name, entry["value"])
+
+
+def _summary(data, tol_rev, tol_rat) -> str:
+    u, ch, cmp = data["unit"], data["checks"], data["paper_comparison"]["computed_as_built"]
+    lines = [
+        "Paper 002: the spatial drive of a 7SK12-class unit (stroke 2.5 m, 12 t, 5600 kgf m)",
+        f"unit: R {u['crank_m']:.4f} m, P {u['pitman_m']:.4f} m, C {u['rear_arm_m']:.4f} m, "
+        f"A {u['front_arm_m']:.4f} m, stroke {u['stroke_m']:.6f} m; cranks and equalizer "
+        f"{u['crank_spacing_m']:g} / {u['equalizer_width_m']:g} m; {u['speed_spm']:g} SPM",
+        f"card: {data['card']['source']}: {data['card']['min_load_N'] / 1e3:.1f} .. "
+        f"{data['card']['peak_load_N'] / 1e3:.1f} kN "
+        f"({data['card']['load_fraction_of_rating']:.0%} "
+        "of the rated load)",
+        "",
+        "checks: ideal drive vs planar unit -- crank torque "
+        f"{ch['ideal_revolute_torque_vs_planar']:.1e} (revolute), "
+        f"{ch['ideal_spherical_torque_vs_planar']:.1e} (rational) relative; pitman split "
+        f"{ch['ideal_revolute_split']:.1e} / {ch['ideal_spherical_split']:.1e}; power balance "
+        f"<= {max(v for k, v in ch.items() if k.startswith('power_balance_revolute')):.1e} "
+        f"(revolute), {ch['power_balance_spherical_built']:.1e} (rational as built, whose "
+        f"equalizer yaw leaves {ch['rational_built_unbalanced_N']:.2g} N unbalanced); "
+        f"self-stress states {ch['self_stress_states_revolute']} (revolute), "
+        f"{ch['self_stress_states_spherical']} (rational)",
+        "",
+        "as built (deviations: "
+        + ", ".join(f"{k} {_fmt_dev(k, v)}" for k, v in data["deviations_as_built"].items())
+        + ")",
+        f"  pitman load split: revolute {data['pitman_split_as_built']['revolute_peak']:.2%}, "
+        f"rational {data['pitman_split_as_built']['rational_peak']:.2%}; largest difference "
+        f"{data['pitman_split_as_built']['revolute_max_difference_kN']:.2f} kN",
+        "  against the paper (computed / published, kN and kN m):",
+    ]
+    for k, pub in PAPER_DIFFERENCES.items():
+        lines.append(f"    {k:32s} {cmp[k]:8.3f} / {pub:g}")
+    lines.append(
+        f"  a phase mismatch of {data['phase_mismatch_for_10kN_deg']:.3f} deg alone gives the "
+        "paper's 10 kN between R12y and R13y "
+        f"(check: {data['phase_mismatch_for_10kN_check_kN']:.2f} kN)"
+    )
+    p20 = data["paper_eq20_vs_compatible"]
+    lines.append(
+        f"  eq. (20) with dbeta23 up to {p20['max_dbeta23_deg']:.3f} deg: "
+        f"{p20['max_paper_eq20_N']:.4g} "
+        f"(N, a force), x l = {p20['max_paper_eq20_as_moment_Nm']:.4g} N m; the compatible bending "
+        f"moment at B reaches {p20['max_bending_at_B_Nm']:.4g} N m"
+    )
+    lines.append("")
+    lines.append(f"tolerance for a pitman split <= {data['limit']:.0%} (each deviation alone):")
+    lines.append(f"  {'deviation':20s} {'revolute drive':>16s} {'rational drive':>16s}")
+    for n in DEVIATIONS:
+        lines.append(f"  {n:20s} {_fmt_tol(n, tol_rev[n]):>16s} {_fmt_tol(n, tol_rat[n]):>16s}")
+    lines.append("")
+    pc = data["counterbalance_planar_ideal"]
+    lines.append("counterbalance for the minimum peak crank torque (certified LP, phase 0):")
+    lines.append(
+        f"  {'planar (ideal)':18s} M = {pc['counterbalance_moment'] / 1e3:8.3f} kN m, peak torque "
+        f"{pc['peak_net_torque'] / 1e3:7.3f} kN m (grid of the cycle)"
+    )
+    for k, s in data["counterbalance"].items():
+        lines.append(
+            f"  {k:18s} M = {s['counterbalance_moment'] / 1e3:8.3f} kN m, peak torque "
+            f"{s['peak_torque'] / 1e3:7.3f} kN m ({data['gearbox_loading'][k]:.0%} of the rating), "
+            f"pitman split {s['peak_split']:.2%}; {s['status']}"
+        )
+    return "\n".join(lines)
+
+
+def _write(
+    out,
+    theta,
+    planar,
+    forces,
+    t_planar,
+    cb,
+    curves,
+    tol_rev,
+    tol_rat,
+    v1,
+    v2,
+    chart,
+    widths,
+    factors,
+    design,
+    load,
+    data,
+    limit,
+    dbeta,
+    paper_force,
+):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ..jsonutil import dumps
+
+    files = []
+    x = np.rad2deg(theta)
+    rev, rat = forces[("revolute", "built")], forces[("spherical", "built")]
+    dead = np.rad2deg(np.asarray(planar.dead_centres, dtype=float))
+
+    def save(fig, name):
+        fig.savefig(out / name, dpi=110)
+        plt.close(fig)
+        files.append(out / name)
+
+    def mark(ax):
+        for d in dead:
+            ax.axvline(d, color="0.6", lw=0.8, ls=":")
+
+    # the card
+    fig, ax = plt.subplots(figsize=(7, 4), constrained_layout=True)
+    ax.plot(load.position, load.load / 1e3, "k-")
+    ax.set_xlabel("polished-rod position, m")
+    ax.set_ylabel("polished-rod load, kN")
+    ax.set_title(f"Dynamometer card: {data['card']['source']}", fontsize=9)
+    ax.grid(True, alpha=0.4)
+    save(fig, "spatial_pump_card.png")
+
+    # pitman forces and split
+    fig, (a1, a2) = plt.subplots(2, 1, sharex=True, figsize=(7.5, 6.5), constrained_layout=True)
+    for f, ls, name in ((rev, "-", "revolute"), (rat, "--", "rational")):
+        a1.plot(x, f.pitman_force["left"] / 1e3, "C0" + ls, label=f"left, {name}")
+        a1.plot(x, f.pitman_force["right"] / 1e3, "C3" + ls, label=f"right, {name}")
+        a2.plot(x, 100 * f.split, "k" + ls, label=name)
+    a2.axhline(100 * limit, color="C1", lw=1)
+    a2.axhline(-100 * limit, color="C1", lw=1, label=f"±{limit:.0%}")
+    a1.set_ylabel("pitman axial force, kN")
+    a2.set_ylabel("(F_left - F_right) / mean, %")
+    a2.set_xlabel("crank angle, deg (dotted: dead centres)")
+    a1.set_title("Pitman forces as built: redundant (revolute) vs rational (spherical) drive")
+    for a in (a1, a2):
+        a.grid(True, alpha=0.4)
+        a.legend(fontsize=8, ncol=2)
+        mark(a)
+    save(fig, "spatial_pump_pitman_forces.png")
+
+    # reactions at A and A1 (paper Figs. 4, 10-13)
+    fig, axes = plt.subplots(2, 1, sharex=True, figsize=(7.5, 6.5), constrained_layout=True)
+    for k, comp in enumerate(("x", "y")):
+        ax = axes[k]
+        for f, ls, name in ((rev, "-", "revolute"), (rat, "--", "rational")):
+            ax.plot(x, f.reactions["R12"].force[:, k] / 1e3, "C0" + ls, label=f"R12{comp} {name}")
+            ax.plot(x, f.reactions["R13"].force[:, k] / 1e3, "C3" + ls, label=f"R13{comp} {name}")
+        ax.set_ylabel(f"{comp} component, kN")
+        ax.grid(True, alpha=0.4)
+        ax.legend(fontsize=8, ncol=2)
+        mark(ax)
+    axes[0].set_title("Crank-pin reactions R12 (A, left) and R13 (A1, right) as built")
+    axes[1].set_xlabel("crank angle, deg")
+    save(fig, "spatial_pump_reactions.png")
+
+    # crank torque (paper Fig. 14)
+    fig, (a1, a2) = plt.subplots(
+        2,
+        1,
+        sharex=True,
+        figsize=(7.5, 6),
+        constrained_layout=True,
+        gridspec_kw={"height_ratios": [3, 1.4]},
+    )
+    a1.plot(x, t_planar / 1e3, color="0.5", lw=3, label="planar unit")
+    a1.plot(x, rev.crank_torque / 1e3, "C0-", label="revolute as built")
+    a1.plot(x, rat.crank_torque / 1e3, "C3--", label="rational as built")
+    a1.axhline(RATED_TORQUE / 1e3, color="C1", lw=1, label="rating 5600 kgf m")
+    a1.axhline(-RATED_TORQUE / 1e3, color="C1", lw=1)
+    a1.set_ylabel("crank torque, kN m")
+    a1.set_title(f"Crank torque with the counterbalance M = {cb.moment / 1e3:.1f} kN m")
+    a2.plot(x, rev.crank_torque - rat.crank_torque, "k-")
+    a2.set_ylabel("revolute - rational, N m")
+    a2.set_xlabel("crank angle, deg")
+    for a in (a1, a2):
+        a.grid(True, alpha=0.4)
+        mark(a)
+    a1.legend(fontsize=8)
+    save(fig, "spatial_pump_torque.png")
+
+    # elastic moments (paper Figs. 5-7)
+    fig, (a1, a2) = plt.subplots(2, 1, sharex=True, figsize=(7.5, 6.5), constrained_layout=True)
+    for side, c in (("left", "C0"), ("right", "C3")):
+        e = rev.elastic[side]
+        a1.plot(x, e["torsion"], c + "-", label=f"{side} pitman")
+        a2.plot(x, e["bending_A"], c + "-", label=f"{side}, at the crank pin")
+        a2.plot(x, e["bending_B"], c + "--", label=f"{side}, at the equalizer")
+    a2.plot(x, np.abs(paper_force), "k:", label="paper (20): 3EJ sin(Δβ/2)/l² (N, a force)")
+    a1.set_ylabel("twisting moment, N m")
+    a2.set_ylabel("bending moment, N m")
+    a2.set_xlabel("crank angle, deg")
+    a1.set_title("Pitman moments of the revolute drive as built")
+    for a in (a1, a2):
+        a.grid(True, alpha=0.4)
+        a.legend(fontsize=8)
+        mark(a)
+    save(fig, "spatial_pump_elastic.png")
+
+    # split against each deviation
+    fig, axes = plt.subplots(2, 4, figsize=(12, 6), constrained_layout=True)
+    for ax, name in zip(axes.ravel(), DEVIATIONS):
+        cv = curves[name]
+        unit, factor = DISPLAY[name]
+        ax.plot(cv["values"] * factor, 100 * cv["revolute"], "C0o-", ms=3, label="revolute")
+        ax.plot(cv["values"] * factor, 100 * cv["spherical"], "C3s--", ms=3, label="rational")
+        ax.axhline(100 * limit, color="C1", lw=1)
+        t = tol_rev[name]["value"]
+        if t is not None and t <= cv["values"][-1]:
+            ax.axvline(t * factor, color="C0", lw=0.8, ls=":")
+        ax.set_xlabel(f"{name.replace('_', ' ')}, {unit}")
+        ax.grid(True, alpha=0.4)
+    for ax in axes[:, 0]:
+        ax.set_ylabel("peak pitman split, %")
+    axes[0, 0].legend(fontsize=8)
+    fig.suptitle(f"Pitman load split against each deviation alone (line: {limit:.0%})")
+    save(fig, "spatial_pump_split_vs_deviation.png")
+
+    # tolerance chart
+    fig, ax = plt.subplots(figsize=(6.5, 5), constrained_layout=True)
+    X, Yg = np.meshgrid(np.rad2deg(v1), v2 * 1e3)
+    cs = ax.contourf(X, Yg, 100 * chart, levels=12, cmap="viridis")
+    fig.colorbar(cs, ax=ax, label="peak pitman split, %")
+    c5 = ax.contour(X, Yg, 100 * chart, levels=[100 * limit], colors="w", linewidths=2)
+    ax.clabel(c5, fmt=lambda v: f"{v:.0f} %")
+    ax.set_xlabel("crank phase mismatch, deg")
+    ax.set_ylabel("crank radius difference (right - left), mm")
+    ax.set_title(
+        "Tolerance chart, revolute drive: inside the white line the split stays within "
+        f"{limit:.0%}",
+        fontsize=9,
+    )
+    save(fig, "spatial_pump_tolerance_chart.png")
+
+    # design chart
+    fig, axes = plt.subplots(1, len(design), figsize=(12, 4.2), constrained_layout=True)
+    for ax, (name, d) in zip(np.atleast_1d(axes), design.items()):
+        unit, factor = DISPLAY[name]
+        for i, fct in enumerate(factors):
+            ax.plot(widths, d["tolerance"][i] * factor, "o-", ms=3, label=f"J × {fct:g}")
+        ax.set_xlabel("equalizer width = crank spacing, m")
+        ax.set_ylabel(f"tolerance of the {name.replace('_', ' ')}, {unit}")
+        ax.grid(True, alpha=0.4)
+        ax.legend(fontsize=8)
+    fig.suptitle(
+        f"Design chart: tolerance for a pitman split <= {limit:.0%} (revolute drive; J: "
+        "pitman bending stiffness, paper's J = 1.176e-6 m^4)"
+    )
+    save(fig, "spatial_pump_design_chart.png")
+
+    # tables
+    with open(out / "spatial_pump_cycle.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(
+            [
+                "crank_angle_deg",
+                "rod_position_m",
+                "rod_load_N",
+                "torque_planar_Nm",
+                "torque_revolute_Nm",
+                "torque_rational_Nm",
+                "pitman_left_revolute_N",
+                "pitman_right_revolute_N",
+                "pitman_left_rational_N",
+                "pitman_right_rational_N",
+                "R12x_rev_N",
+                "R12y_rev_N",
+                "R13x_rev_N",
+                "R13y_rev_N",
+                "R12x_rat_N",
+                "R12y_rat_N",
+                "R13x_rat_N",
+                "R13y_rat_N",
+                "torsion_left_Nm",
+                "torsion_right_Nm",
+                "bending_A_left_Nm",
+                "bending_B_left_Nm",
+                "bending_A_right_Nm",
+                "bending_B_right_Nm",
+                "dbeta23_deg",
+            ]
+        )
+        for i in range(theta.size):
+            w.writerow(
+                [
+                    x[i],
+                    rev.motion.polished_rod.position[i],
+                    rev.load[i],
+                    t_planar[i],
+                    rev.crank_torque[i],
+                    rat.crank_torque[i],
+                    rev.pitman_force["left"][i],
+                    rev.pitman_force["right"][i],
+                    rat.pitman_force["left"][i],
+                    rat.pitman_force["right"][i],
+                    *rev.reactions["R12"].force[i, :2],
+                    *rev.reactions["R13"].force[i, :2],
+                    *rat.reactions["R12"].force[i, :2],
+                    *rat.reactions["R13"].force[i, :2],
+                    rev.elastic["left"]["torsion"][i],
+                    rev.elastic["right"]["torsion"][i],
+                    rev.elastic["left"]["bending_A"][i],
+                    rev.elastic["left"]["bending_B"][i],
+                    rev.elastic["right"]["bending_A"][i],
+                    rev.elastic["right"]["bending_B"][i],
+                    np.rad2deg(dbeta[i]),
+                ]
+            )
+    files.append(out / "spatial_pump_cycle.csv")
+    with open(out / "spatial_pump_tolerances.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["deviation", "unit", "tolerance_revolute", "tolerance_rational", "limit"])
+        for n in DEVIATIONS:
+            unit, factor = DISPLAY[n]
+            rv, rt = tol_rev[n]["value"], tol_rat[n]["value"]
+            w.writerow(
+                [
+                    n,
+                    unit,
+                    "" if rv is None else rv * factor,
+                    "" if rt is None else rt * factor,
+                    limit,
+                ]
+            )
+    files.append(out / "spatial_pump_tolerances.csv")
+    with open(out / "spatial_pump_sweep.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["deviation", "unit", "value", "split_revolute", "split_rational"])
+        for n, cv in curves.items():
+            unit, factor = DISPLAY[n]
+            for val, a, b in zip(cv["values"], cv["revolute"], cv["spherical"]):
+                w.writerow([n, unit, val * factor, a, b])
+    files.append(out / "spatial_pump_sweep.csv")
+    with open(out / "spatial_pump_tolerance_chart.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["phase_mismatch_deg", "crank_difference_mm", "peak_split"])
+        for j, b in enumerate(v2):
+            for i, a in enumerate(v1):
+                w.writerow([np.rad2deg(a), b * 1e3, chart[j, i]])
+    files.append(out / "spatial_pump_tolerance_chart.csv")
+    with open(out / "spatial_pump_design_chart.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(
+            [
+                "deviation",
+                "unit",
+                "stiffness_factor",
+                "equalizer_width_m",
+                "tolerance",
+                "split_at_tolerance",
+            ]
+        )
+        for n, d in design.items():
+            unit, factor = DISPLAY[n]
+            for i, fct in enumerate(factors):
+                for k, wd in enumerate(widths):
+                    w.writerow([n, unit, fct, wd, d["tolerance"][i, k] * factor, d["check"][i, k]])
+    files.append(out / "spatial_pump_design_chart.csv")
+    (out / "spatial_pump.json").write_text(dumps(data) + "\n")
+    files.append(out / "spatial_pump.json")
+    return files
