@@ -129,7 +129,7 @@ def tolerance(
     s_lo = {n: 0.0 for n in names}
     hi: dict[str, float | None] = {n: None for n in names}
     s_hi: dict[str, float] = {}
-    x = {n: float(start.get(n, 1e-3)) for n in names}
+    x = {n: min(float(start.get(n, 1e-3)), float(maximum.get(n, np.inf))) for n in names}
     evals = {n: 0 for n in names}
     open_ = list(names)
     for _ in range(max_rounds):  # bracketing
@@ -218,6 +218,7 @@ def tolerance_design_chart(
     masses=None,
     limit=0.05,
     probe=None,
+    maximum=None,
 ):
     """Tolerance of ``deviation`` (alone) for each equalizer width (the crank spacing follows:
     parallel pitmans) and each factor on the pitmans' bending stiffness (``J_y`` and ``J_z``).
@@ -225,8 +226,9 @@ def tolerance_design_chart(
     The split is first measured at a small ``probe`` value of the deviation (default 1e-3, in
     its unit: m or rad); the tolerance is the value where the (nearly linear) split reaches
     ``limit``, extrapolated from the probe, and one evaluation at that value checks it (the
-    split found there is returned as ``check``). Returns ``(tol, check)`` arrays of shape
-    ``(len(factors), len(widths))``.
+    split found there is returned as ``check``). A tolerance beyond ``maximum`` (the largest
+    deviation the model should be asked about) is reported as ``inf``, unchecked. Returns
+    ``(tol, check)`` arrays of shape ``(len(factors), len(widths))``.
     """
     _check_deviation(deviation)
     widths = np.asarray(widths, dtype=float).ravel()
@@ -244,6 +246,8 @@ def tolerance_design_chart(
     with_probe = [dict(d, **{deviation: probe}) for d in designs]
     s_probe = _peak_splits(with_probe, base, theta, speed, load, masses)
     tol = np.where(s_probe > 0, probe * limit / np.where(s_probe > 0, s_probe, 1.0), np.inf)
+    if maximum is not None:
+        tol = np.where(tol > maximum, np.inf, tol)
     checks = [dict(d, **{deviation: t}) for d, t in zip(designs, tol) if np.isfinite(t)]
     s_chk = np.full(tol.shape, np.nan)
     s_chk[np.isfinite(tol)] = _peak_splits(checks, base, theta, speed, load, masses)

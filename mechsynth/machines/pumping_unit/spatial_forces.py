@@ -469,12 +469,17 @@ def _rod_direction(n_c):
     return unit(cross(Y, n_c))
 
 
-def _pitman_frame(axis, shaft):
-    """Local axes (x along the pitman, z the pin-hole axis nearest the shaft, y = z x x) as the
-    columns of a rotation matrix."""
-    h = unit(shaft - dot(shaft, axis)[..., None] * axis)
-    ey = cross(h, axis)
-    return np.stack([axis, ey, h], axis=-1), h
+def _pitman_frame(axis, shaft, splay):
+    """The pitman's section axes (x along the pitman, z across it nearest the shaft, y = z x x)
+    as the columns of a rotation matrix, and the axis of its pin holes: parallel to the shaft in
+    the ideal drive, where the pitman leans by ``splay`` = (its axis . shaft) when the crank
+    spacing and the equalizer width differ, and turning with the pitman in the plane of its axis
+    and the shaft otherwise."""
+    across = unit(shaft - dot(shaft, axis)[..., None] * axis)
+    ey = cross(across, axis)
+    splay = np.asarray(splay, dtype=float)[..., None]
+    holes = splay * axis + np.sqrt(1.0 - splay**2) * across
+    return np.stack([axis, ey, across], axis=-1), holes
 
 
 def spatial_forces(
@@ -601,7 +606,9 @@ def spatial_forces(
     }
     frames = {}
     for side, body in (("left", "pitman_left"), ("right", "pitman_right")):
-        frames[side] = _pitman_frame(K[body].axis, n_o)
+        # the ideal lean of the pitman along the shaft: (B_z - A_z) / l in the ideal drive
+        lean = (unit.crank_spacing - unit.equalizer_width) / 2.0 / L[body]
+        frames[side] = _pitman_frame(K[body].axis, n_o, lean if side == "left" else -lean)
     compliance = misfit = None
     if kind == "revolute":
         compliance, misfit = {}, {}
@@ -683,7 +690,9 @@ def planar_torque(
     ``unit.planar`` with the same masses, by the planar kinetostatics of
     :mod:`mechsynth.dynamics.kinetostatics`: both pitmans as one planar pitman of twice the mass
     and inertia, the beam and horsehead as one beam, the equalizer as a point mass at its bearing
-    (it does not turn in the ideal drive). The reference the ideal spatial drive must reproduce.
+    (it does not turn in the ideal drive). The reference the ideal spatial drive must reproduce
+    -- exactly when the pitmans are parallel; leaning pitmans (crank spacing and equalizer width
+    unequal) turn about the shaft with a slightly smaller moment of inertia than a planar one.
     """
     from ...dynamics.inertia import LinkInertia
     from ...dynamics.kinetostatics import FRAME, ForceModel, Revolute, kinetostatics
