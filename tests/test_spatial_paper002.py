@@ -114,3 +114,18 @@ def test_elastic_formulas_18_to_21_against_beam_theory():
 def test_errata_are_listed():
     assert len(paper002.ERRATA) >= 10
     assert any("5 times" in e for e in paper002.ERRATA)
+
+
+def test_link_vectors_of_eq_4_in_the_ideal_drive():
+    """Eq. (4): l1 = l_OA (cos phi1, sin phi1, 0), l11 likewise, l4 = l_BD e_BD,
+    l41 = -l_B1D e_BD, l5 = l_DC (x_DC, y_DC, 0) with the shaft along z."""
+    s, f, v = _solve("revolute")
+    phi1 = s.sense * TH + np.pi / 2
+    ring = s.crank * np.stack([np.cos(phi1), np.sin(phi1), 0 * phi1], axis=-1)
+    np.testing.assert_allclose(v["l1"], ring, atol=1e-12)
+    np.testing.assert_allclose(v["l11"], ring, atol=1e-12)
+    e_bd = f.motion.links["equalizer"].axis
+    np.testing.assert_allclose(v["l4"], 0.6 * e_bd, atol=1e-12)
+    np.testing.assert_allclose(v["l41"], -0.6 * e_bd, atol=1e-12)
+    np.testing.assert_allclose(v["l5"][:, 2], 0.0, atol=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(v["l5"], axis=-1), s.rear_arm, rtol=1e-12)

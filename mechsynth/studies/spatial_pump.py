@@ -493,28 +493,13 @@ def run(
     data["run_time_s"] = time.perf_counter() - t0  # the computation, figures not included
     files = []
     if out is not None:
-        files = _write(
-            Path(out),
-            theta,
-            planar,
-            forces,
-            t_planar,
-            cb,
-            curves,
-            tol_rev,
-            tol_rat,
-            v1,
-            v2,
-            chart,
-            widths,
-            factors,
-            design,
-            load,
-            data,
-            limit,
-            dbeta,
-            paper_force,
-        )
+        results = dict(
+            theta=theta, planar=planar, forces=forces, t_planar=t_planar, cb=cb, curves=curves,
+            tol_rev=tol_rev, tol_rat=tol_rat, v1=v1, v2=v2, chart=chart, widths=widths,
+            factors=factors, design=design, load=load, data=data, limit=limit, dbeta=dbeta,
+            paper_force=paper_force,
+        )  # fmt: skip
+        files = _write(Path(out), results)
     return StudyResult("spatial-pump", _summary(data, tol_rev, tol_rat), data, files, errata)
 
 
@@ -616,28 +601,17 @@ def _summary(data, tol_rev, tol_rat) -> str:
     return "\n".join(lines)
 
 
-def _write(
-    out,
-    theta,
-    planar,
-    forces,
-    t_planar,
-    cb,
-    curves,
-    tol_rev,
-    tol_rat,
-    v1,
-    v2,
-    chart,
-    widths,
-    factors,
-    design,
-    load,
-    data,
-    limit,
-    dbeta,
-    paper_force,
-):
+def _write(out, results):
+    """Figures and tables of the study into ``out`` (the ``results`` of :func:`run`)."""
+    r = results
+    theta, planar, forces, t_planar, cb = (
+        r[k] for k in ("theta", "planar", "forces", "t_planar", "cb")
+    )
+    curves, tol_rev, v1, v2, chart = (r[k] for k in ("curves", "tol_rev", "v1", "v2", "chart"))
+    widths, factors, design, load, data = (
+        r[k] for k in ("widths", "factors", "design", "load", "data")
+    )
+    limit, dbeta, paper_force, tol_rat = r["limit"], r["dbeta"], r["paper_force"], r["tol_rat"]
     import matplotlib
 
     matplotlib.use("Agg")
