@@ -48,13 +48,13 @@ def main(argv=None):
     drive = ms.SpatialPumpingUnit.from_planar(unit, 1.2, **{**DEV, "phase_mismatch": phases})
     theta = ms.cycle(n_angles)
     n = n_designs * n_angles
-    drive.stroke  # the stroke's Newton search is cached per drive: not part of the timing
+    _ = drive.stroke  # the stroke's Newton search is cached per drive: not timed
     t, _ = timed(lambda: drive.motion(theta, speed=ms.spm(6)), args.repeat)
     print(f"kinematics: {n_designs} designs x {n_angles} angles in {t * 1e3:.0f} ms "
           f"= {n / t:.3g} design-angle evaluations/s")  # fmt: skip
     for joints in ("revolute", "spherical"):
         d = drive.with_joints(joints)
-        d.stroke
+        _ = d.stroke
         t, _ = timed(lambda d=d: d.forces(theta, ms.spm(6), load=80e3), args.repeat)
         print(f"kinetostatics, {joints}: {t * 1e3:.0f} ms = {n / t:.3g} design-angle evaluations/s")
     one = ms.SpatialPumpingUnit.from_planar(unit, 1.2, **DEV)

@@ -111,7 +111,7 @@ class SpatialPumpMotion:
         ``pitman_left``, ``pitman_right``, ``equalizer``, ``beam``; ``axis``: the shaft axis, the
         pitman directions A->B and A1->B1, the equalizer axis B->B1, the beam axis.
     pressure_angle : ``{"left", "right"}`` angle (rad) between each pitman and the velocity of D.
-    extra : ``residual`` (m, largest loop-closure residual), ``lengths`` of the loops' links.
+    extra : ``residual`` (m): the largest violation of the loops' link lengths.
     """
 
     theta: Any
