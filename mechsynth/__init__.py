@@ -10,7 +10,7 @@ angles and designs), CasADi exact derivatives for IPOPT, and cvxpy convex subpro
 
 from . import kinematics, objectives
 from .errors import MechanismError, SolverError
-from .kinematics import FourBar, Motion, SliderCrank
+from .kinematics import FourBar, Linkage, Motion, Param, SliderCrank
 from .machines.pumping_unit import BeamPumpingUnit, SpatialPumpingUnit
 from .synthesis import Problem, Result
 from .units import cycle, deg, dms, inch, rpm, spm, to_deg, to_inch, to_rpm
@@ -26,6 +26,8 @@ __all__ = [
     "SolverError",
     "SliderCrank",
     "FourBar",
+    "Linkage",
+    "Param",
     "BeamPumpingUnit",
     "SpatialPumpingUnit",
     "Motion",

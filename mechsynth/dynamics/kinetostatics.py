@@ -7,6 +7,7 @@ form one square linear system per crank angle in the unknowns
 
 * the reaction of every revolute joint (two components),
 * the normal force and the moment of every prismatic pair (two numbers),
+* the normal force of every higher-pair contact (one number, along the common normal),
 * the balancing (driving) torque on the crank,
 
 and all angles are solved at once by one batched ``numpy.linalg.solve``.
@@ -34,6 +35,7 @@ from .inertia import LinkInertia, com_track
 __all__ = [
     "Revolute",
     "Prismatic",
+    "Contact",
     "ForceModel",
     "ForceResult",
     "kinetostatics",
@@ -71,14 +73,33 @@ class Prismatic:
 
 
 @dataclass(frozen=True)
+class Contact:
+    """Higher pair ``name`` (a cam and its follower) between ``on`` and ``by`` at the moving
+    contact point ``point``: one unknown, the normal force ``F`` along the common normal, whose
+    angle (rad) is ``motion.extra[normal]`` (a name) or a constant; the force on ``on`` is
+    ``F (cos, sin)`` of that angle (positive: the pair is pressed together when the normal
+    points from ``by`` into ``on``). Frictionless."""
+
+    name: str
+    on: str
+    by: str
+    point: str
+    normal: Any = 0.0
+
+
+def _unknowns(joint) -> int:
+    return 1 if isinstance(joint, Contact) else 2
+
+
+@dataclass(frozen=True)
 class ForceModel:
     """Bodies, joints, applied loads and the driving body of a mechanism.
 
     Parameters
     ----------
     bodies : ``{name: LinkInertia}`` of every moving body (massless ones with mass 0).
-    joints : Revolute and Prismatic pairs; together with the drive they must give exactly
-        ``3 * len(bodies)`` unknowns.
+    joints : Revolute and Prismatic pairs (two unknowns each) and Contact pairs (one); with
+        the drive they must give exactly ``3 * len(bodies)`` unknowns.
     loads : objects with ``contributions(motion, bodies) -> [Wrench]`` (see ``dynamics.loads``).
     driver : the body that receives the balancing torque (the crank).
     """
@@ -98,7 +119,7 @@ class ForceModel:
             for b in (j.on, j.by):
                 if b != FRAME and b not in names:
                     raise ValueError(f"joint {j.name} names an unknown body {b!r}")
-        n = 2 * len(self.joints) + 1
+        n = sum(_unknowns(j) for j in self.joints) + 1
         if n != 3 * len(self.bodies):
             raise ValueError(
                 f"{len(self.joints)} joints and the drive give {n} unknowns, but "
@@ -124,7 +145,8 @@ class ForceResult:
     phi : crank angles (rad).
     reactions : ``{joint: (fx, fy)}`` force on the joint's ``on`` body from its ``by`` body (N)
         for revolute joints, and the normal force as a vector for prismatic pairs.
-    normals : ``{joint: (N, M)}`` normal force (N) and moment (N m) of prismatic pairs.
+    normals : ``{joint: (N, M)}`` normal force (N) and moment (N m) of prismatic pairs; for a
+        contact ``(F, 0)``, its normal force.
     torque : balancing torque on the driving body (N m, counter-clockwise positive).
     """
 
@@ -189,10 +211,19 @@ def _as(values, shape):
     return np.broadcast_to(np.asarray(values, dtype=float), shape)
 
 
-def _direction(motion: Motion, direction, shape):
-    if isinstance(direction, str):
-        return _as(motion.links[direction].angle, shape)
-    return _as(direction, shape)
+def _normal(motion: Motion, normal):
+    if isinstance(normal, str):
+        return motion.extra[normal]
+    return normal
+
+
+def _columns(model: ForceModel):
+    """First unknown's column of every joint, and the count (the torque is the last)."""
+    cols, c = [], 0
+    for j in model.joints:
+        cols.append(c)
+        c += _unknowns(j)
+    return cols, c + 1
 
 
 def _entries(model: ForceModel, motion: Motion):
@@ -201,6 +232,7 @@ def _entries(model: ForceModel, motion: Motion):
     names = list(model.bodies)
     row = {b: 3 * i for i, b in enumerate(names)}
     n = 3 * len(names)
+    first, _ = _columns(model)
     A: dict = {}
     f: dict = {}
 
@@ -222,7 +254,7 @@ def _entries(model: ForceModel, motion: Motion):
         for w in load.contributions(motion, model.bodies):
             add_known(w.body, w.fx, w.fy, w.x, w.y, w.tz)
     for k, j in enumerate(model.joints):
-        c = 2 * k
+        c = first[k]
         p = motion.points[j.point]
         x, y = p.x, p.y
         if isinstance(j, Revolute):
@@ -231,6 +263,10 @@ def _entries(model: ForceModel, motion: Motion):
             th = motion.links[j.direction].angle if isinstance(j.direction, str) else j.direction
             nx, ny = -ops.sin(th), ops.cos(th)
             cols = ((nx, ny, x * ny - y * nx), (0.0, 0.0, 1.0))
+        elif isinstance(j, Contact):
+            th = _normal(motion, j.normal)
+            nx, ny = ops.cos(th), ops.sin(th)
+            cols = ((nx, ny, x * ny - y * nx),)
         else:
             raise ValueError(f"unknown joint type {type(j).__name__}")
         for sign, body in ((1.0, j.on), (-1.0, j.by)):
@@ -285,17 +321,7 @@ def kinetostatics(model: ForceModel, motion: Motion) -> ForceResult:
     if ops.is_symbolic(*A_ent.values(), *f_ent.values()):
         X = _solve_symbolic(A_ent, f_ent, n, motion)
         cols = [X[:, k] for k in range(n)]
-        reactions, normals = {}, {}
-        for k, j in enumerate(model.joints):
-            a, b = cols[2 * k], cols[2 * k + 1]
-            if isinstance(j, Revolute):
-                reactions[j.name] = (a, b)
-            else:
-                th = (
-                    motion.links[j.direction].angle if isinstance(j.direction, str) else j.direction
-                )
-                reactions[j.name] = (-a * ops.sin(th), a * ops.cos(th))
-                normals[j.name] = (a, b)
+        reactions, normals = _reactions(model, motion, cols, lambda th: th)
         return ForceResult(motion.phi, reactions, normals, cols[n - 1], motion.omega)
 
     phi = np.asarray(motion.phi, dtype=float)
@@ -320,16 +346,29 @@ def kinetostatics(model: ForceModel, motion: Motion) -> ForceResult:
             "kinetostatics: singular equilibrium system at crank angle "
             f"{np.rad2deg(np.broadcast_to(phi, shape)[i]):.6g} deg (toggle or ill-posed model)"
         )
+    cols = [X[..., k] for k in range(n)]
+    reactions, normals = _reactions(model, motion, cols, lambda th: _as(th, shape))
+    return ForceResult(motion.phi, reactions, normals, X[..., n - 1], motion.omega)
+
+
+def _reactions(model, motion, cols, shaped):
+    """Reaction vectors and normal forces of the joints from the solved unknowns."""
+    first, _ = _columns(model)
     reactions, normals = {}, {}
     for k, j in enumerate(model.joints):
-        a, b = X[..., 2 * k], X[..., 2 * k + 1]
+        a = cols[first[k]]
         if isinstance(j, Revolute):
-            reactions[j.name] = (a, b)
+            reactions[j.name] = (a, cols[first[k] + 1])
+        elif isinstance(j, Prismatic):
+            d = j.direction
+            th = shaped(motion.links[d].angle if isinstance(d, str) else d)
+            reactions[j.name] = (-a * ops.sin(th), a * ops.cos(th))
+            normals[j.name] = (a, cols[first[k] + 1])
         else:
-            th = _direction(motion, j.direction, shape)
-            reactions[j.name] = (-a * np.sin(th), a * np.cos(th))
-            normals[j.name] = (a, b)
-    return ForceResult(motion.phi, reactions, normals, X[..., n - 1], motion.omega)
+            th = shaped(_normal(motion, j.normal))
+            reactions[j.name] = (a * ops.cos(th), a * ops.sin(th))
+            normals[j.name] = (a, 0.0 * a)
+    return reactions, normals
 
 
 def _point_velocity(motion: Motion, body: LinkInertia, x, y):

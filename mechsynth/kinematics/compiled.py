@@ -341,7 +341,13 @@ def _kernels():
     # the blocks' own functions (the dyads without their numpy warning guard)
     model = [
         getattr(f, "__wrapped__", f)
-        for f in (blocks.link_angle, blocks.crank_pin, blocks.dyad_rrr, blocks.dyad_rrp)
+        for f in (
+            blocks.link_angle,
+            blocks.crank_pin,
+            blocks.dyad_rrr,
+            blocks._rrp_slide,
+            blocks.dyad_rrp,
+        )
     ]
     for fn in model:
         ns[fn.__name__] = _twin(fn, ns, jit)

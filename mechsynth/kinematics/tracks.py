@@ -134,6 +134,9 @@ class Motion:
         output and the output's velocity, at every angle.
     transmission_angle : angle (rad) between the coupler (rod) and the output link, if defined.
     extra : other named per-angle quantities of a particular mechanism.
+    pressure_angles, transmission_angles : per group of a general linkage (named by the group),
+        the pressure and transmission angles (rad); empty for the named mechanisms, whose
+        ``pressure_angle`` is their one output's.
     """
 
     phi: Any
@@ -145,6 +148,8 @@ class Motion:
     sliders: dict[str, SliderTrack] = field(default_factory=dict)
     transmission_angle: Any = None
     extra: dict[str, Any] = field(default_factory=dict)
+    pressure_angles: dict[str, Any] = field(default_factory=dict)
+    transmission_angles: dict[str, Any] = field(default_factory=dict)
 
     @property
     def slider(self) -> SliderTrack:

@@ -4,6 +4,7 @@ from .base import Combination, Constraint, CycleMeasure, Measure, ScalarMeasure,
 from .forces import peak_reaction, peak_torque, reaction_affine_map, rms_torque
 from .kinematic import (
     KINEMATIC_MEASURES,
+    assembly_margin,
     grashof_margin,
     max_pressure_angle,
     min_transmission_angle,
@@ -28,6 +29,7 @@ __all__ += [
     "grashof_margin",
     "peak_angular_velocity",
     "peak_angular_acceleration",
+    "assembly_margin",
     "KINEMATIC_MEASURES",
 ]
 __all__ += ["peak_reaction", "peak_torque", "rms_torque", "reaction_affine_map"]

@@ -10,7 +10,14 @@ Output names
 ------------
 ``"slider"`` is the mechanism's main slider along its guide (``motion.slider``); any other name is a
 point of the motion (``"A"``, ``"B"``, coupler points) or, failing that, a named slider. ``None``
-means the mechanism's ``default_output``.
+means the mechanism's ``default_output``. (A stroke of a name that is both a point and a slider
+is the slider's travel along its guide.)
+
+Binding
+-------
+``Measure.bind`` receives what a problem or a sweep varies: a mechanism class, or a
+:class:`~mechsynth.kinematics.Linkage` (an instance that stands for its designs); closed forms are
+looked up on the class (``_cls``).
 
 Smoothness
 ----------
@@ -37,8 +44,14 @@ __all__ = [
     "grashof_margin",
     "peak_angular_velocity",
     "peak_angular_acceleration",
+    "assembly_margin",
     "KINEMATIC_MEASURES",
 ]
+
+
+def _cls(target):
+    """The class of what a measure is bound to (a mechanism class, or a linkage instance)."""
+    return target if isinstance(target, type) else type(target)
 
 
 # ------------------------------------------------------------------------------ helpers
@@ -108,7 +121,8 @@ class _PeakMagnitude(CycleMeasure):
 
     def bind(self, mechanism_class):
         # A point without a direction is a vector magnitude: squared branch + sqrt; a slider or a
-        # direction gives a signed scalar. Decide from a probe motion of the class's outputs.
+        # direction gives a signed scalar. Decided from the name (default_output of the class or
+        # of the linkage).
         vector = self.direction is None and not self._is_slider(mechanism_class)
         return CycleMeasure(
             self.name,
@@ -202,38 +216,74 @@ def peak_angular_acceleration(link="rocker") -> CycleMeasure:
 
 
 # ------------------------------------------------------------------------------ angles
-def max_pressure_angle() -> CycleMeasure:
+def _group_angle(motion, group, table, what):
+    if group is None:
+        value = motion.pressure_angle if table == "pressure" else motion.transmission_angle
+        if value is None:
+            raise ValueError(f"this mechanism defines no {what}")
+        return value
+    angles = motion.pressure_angles if table == "pressure" else motion.transmission_angles
+    if group not in angles:
+        known = ", ".join(angles) or "none (name no group for a named mechanism)"
+        raise ValueError(f"no {what} of group {group!r}; groups with one: {known}")
+    return angles[group]
+
+
+def max_pressure_angle(group=None) -> CycleMeasure:
     """Largest pressure angle over the cycle (rad): the angle between the force the driving link
-    transmits to the output and the output's velocity (``motion.pressure_angle``).
+    transmits to the output and the output's velocity (``motion.pressure_angle``), or that of
+    the linkage group ``group`` (``motion.pressure_angles[group]``, e.g. ``"N"``).
 
     The per-angle value has kinks where the pressure angle is zero; they are never at the peak,
     so the epigraph constraints are smooth where they are active."""
+    name = "max_pressure_angle" if group is None else f"max_pressure_angle({group})"
     return CycleMeasure(
-        "max_pressure_angle", lambda mech, motion: motion.pressure_angle, "max", "rad"
+        name,
+        lambda mech, motion: _group_angle(motion, group, "pressure", "pressure angle"),
+        "max",
+        "rad",
     )
 
 
-def _transmission(motion):
-    mu = motion.transmission_angle
-    if mu is None:
-        raise ValueError("this mechanism defines no transmission angle")
-    return mu
-
-
-def min_transmission_angle() -> CycleMeasure:
+def min_transmission_angle(group=None) -> CycleMeasure:
     """Smallest transmission angle over the cycle (rad), counting an obtuse angle ``mu`` as its
     supplement ``pi - mu`` (the classical definition: worst deviation from 90 deg is
-    ``pi/2 - min_transmission_angle``)."""
+    ``pi/2 - min_transmission_angle``); of the main output, or of the linkage group ``group``."""
+
+    def mu_of(motion):
+        return _group_angle(motion, group, "transmission", "transmission angle")
 
     def per_angle(mechanism, motion):
-        mu = _transmission(motion)
+        mu = mu_of(motion)
         return ops.fmin(mu, np.pi - mu)
 
     def branches(mechanism, motion):
-        mu = _transmission(motion)
+        mu = mu_of(motion)
         return (mu, np.pi - mu)
 
-    return CycleMeasure("min_transmission_angle", per_angle, "min", "rad", branches=branches)
+    name = "min_transmission_angle" if group is None else f"min_transmission_angle({group})"
+    return CycleMeasure(name, per_angle, "min", "rad", branches=branches)
+
+
+def assembly_margin(condition) -> CycleMeasure:
+    """Smallest assembly margin of a linkage's group over the cycle (dimensionless; see
+    :meth:`~mechsynth.kinematics.Linkage.assembly_margins`): ``sin^2`` of the angle between an
+    RRR dyad's links, ``cos^2`` of an RRP rod's angle to its guide, ... -- zero at a toggle,
+    negative where the group cannot be assembled. A :class:`~mechsynth.synthesis.Problem` over
+    a linkage bounds every condition's margin from below, certified over the continuous crank
+    angle like any peak."""
+
+    def per_angle(mechanism, motion):
+        margins = motion.extra.get("assembly margins")
+        if margins is None:
+            raise ValueError("this mechanism reports no assembly margins (a Linkage does)")
+        if condition not in margins:
+            raise ValueError(
+                f"no assembly condition {condition!r}; conditions: {', '.join(margins)}"
+            )
+        return margins[condition]
+
+    return CycleMeasure(f"assembly_margin({condition})", per_angle, "min", "")
 
 
 # ------------------------------------------------------------------------------ ranges
@@ -246,7 +296,7 @@ class _Range(Measure):
         self._closed_form = closed_form  # mechanism_class -> fn(mechanism) or None
 
     def bind(self, mechanism_class) -> Measure:
-        fn = self._closed_form(mechanism_class) if self._closed_form else None
+        fn = self._closed_form(_cls(mechanism_class)) if self._closed_form else None
         if fn is not None:
             return ScalarMeasure(self.name, fn, self.unit)
         hi = CycleMeasure(f"max {self.name}", self._quantity, "max", self.unit)
@@ -267,6 +317,8 @@ def stroke(point="slider", direction=None) -> Measure:
     direction = _check_direction(direction)
 
     def quantity(mechanism, motion):
+        if direction is None and point in motion.sliders:
+            return motion.sliders[point].position
         what, tr = _resolve(mechanism, motion, point)
         if what == "slider":
             return tr.position
@@ -318,7 +370,7 @@ class _TimeRatio(Measure):
     unit = ""
 
     def bind(self, mechanism_class):
-        if not isinstance(getattr(mechanism_class, "crank_spans", None), property):
+        if not isinstance(getattr(_cls(mechanism_class), "crank_spans", None), property):
             raise ValueError(f"{mechanism_class.__name__} has no time ratio (no crank_spans)")
 
         def fn(mech):
@@ -377,4 +429,5 @@ KINEMATIC_MEASURES = {
     "grashof_margin": grashof_margin,
     "peak_angular_velocity": peak_angular_velocity,
     "peak_angular_acceleration": peak_angular_acceleration,
+    "assembly_margin": assembly_margin,
 }

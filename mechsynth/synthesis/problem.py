@@ -21,15 +21,29 @@ from collections.abc import Iterable, Mapping
 import numpy as np
 
 from ..objectives.base import Constraint, Measure
+from ..objectives.kinematic import assembly_margin
 from ..units import cycle
 
 __all__ = ["Problem"]
 
 
-def _fields(cls):
-    if not dataclasses.is_dataclass(cls):
-        raise TypeError(f"{cls!r} is not a mechanism class (a dataclass of parameters)")
-    return {f.name: f for f in dataclasses.fields(cls)}
+def _parameters(mechanism) -> dict[str, bool]:
+    """``{parameter: required}`` of a mechanism class (its dataclass fields: required when
+    without a default), or of a design family such as a :class:`~mechsynth.kinematics.Linkage`
+    (an instance callable with parameter values, whose ``parameters`` are all set)."""
+    if isinstance(mechanism, type):
+        if not dataclasses.is_dataclass(mechanism):
+            raise TypeError(f"{mechanism!r} is not a mechanism class (a dataclass of parameters)")
+        return {
+            f.name: f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
+            for f in dataclasses.fields(mechanism)
+        }
+    params = getattr(mechanism, "parameters", None)
+    if callable(mechanism) and isinstance(params, Mapping):
+        return {name: False for name in params}
+    raise TypeError(
+        f"{mechanism!r} is neither a mechanism class (e.g. ms.SliderCrank) nor a Linkage"
+    )
 
 
 class Problem:
@@ -38,7 +52,11 @@ class Problem:
 
     Parameters
     ----------
-    mechanism : a mechanism class (e.g. ``ms.SliderCrank``).
+    mechanism : a mechanism class (e.g. ``ms.SliderCrank``), or a
+        :class:`~mechsynth.kinematics.Linkage`: its named dimensions are the parameters, those
+        not varied keep the linkage's values. A linkage's assembly is a per-angle condition:
+        the problem adds ``assembly_margin(c) >= feasibility_margin`` for each of its
+        conditions (certified over the continuous crank angle like every peak).
     variables : ``{name: (lower, upper)}`` in SI units (m, rad): the decision variables.
     fixed : ``{name: value}`` for the other parameters (defaults of the class apply otherwise).
     speed : crank speed (rad/s, e.g. ``ms.rpm(600)``) at which velocities and accelerations are
@@ -61,7 +79,8 @@ class Problem:
         feasibility_margin: float = 1e-3,
         tol: float = 1e-6,
     ):
-        fields = _fields(mechanism)
+        fields = _parameters(mechanism)
+        kinds = {} if isinstance(mechanism, type) else getattr(mechanism, "parameter_kinds", {})
         self.mechanism = mechanism
         self.variables: dict[str, tuple[float, float]] = {}
         if not variables:
@@ -80,6 +99,10 @@ class Problem:
                 ) from exc
             if not (np.isfinite(lo) and np.isfinite(hi)) or not lo < hi:
                 raise ValueError(f"variable {name!r}: need finite lower < upper, got ({lo}, {hi})")
+            if kinds.get(name) == "length" and lo <= 0.0:
+                raise ValueError(
+                    f"variable {name!r} is a length: its lower bound must be positive, got {lo}"
+                )
             self.variables[name] = (lo, hi)
         self.fixed = dict(fixed or {})
         for name in self.fixed:
@@ -89,11 +112,8 @@ class Problem:
                 raise ValueError(f"{name!r} is both a variable and fixed")
         missing = [
             n
-            for n, f in fields.items()
-            if n not in self.variables
-            and n not in self.fixed
-            and f.default is dataclasses.MISSING
-            and f.default_factory is dataclasses.MISSING
+            for n, required in fields.items()
+            if required and n not in self.variables and n not in self.fixed
         ]
         if missing:
             raise ValueError(
@@ -121,6 +141,9 @@ class Problem:
         self.objective: Measure | None = None
         self.sense = "min"
         self.constraints: list[Constraint] = []
+        if not isinstance(mechanism, type):
+            for condition in getattr(mechanism, "assembly_conditions", ()):
+                self.constraints.append(assembly_margin(condition) >= self.feasibility_margin)
         self._cache: dict = {}
 
     @property

@@ -27,7 +27,7 @@ Global method (``"de"``)
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -286,8 +286,19 @@ def _peak_atoms(tr: Transcription):
     return atoms
 
 
+class _Unassembled(Exception):
+    """A candidate that cannot be assembled at some crank angle the grid does not hold, and
+    whose error names no angle to add: it is treated as infeasible."""
+
+
 class _Certifier:
-    """Refines the grid around one candidate until its peaks are certified."""
+    """Refines the grid around one candidate until its peaks are certified.
+
+    A design that cannot be assembled between the grid's angles (a general linkage, whose
+    assembly is a per-angle condition) raises in the dense evaluation; the angles its
+    :class:`MechanismError` names are added to the grid, where the problem's assembly
+    constraints then hold, and the problem is re-solved, like a missed peak.
+    """
 
     def __init__(self, problem, method, options, rtol, max_rounds, n_dense, tr=None):
         self.problem, self.method, self.options = problem, method, options
@@ -305,9 +316,15 @@ class _Certifier:
     def checks(self, mech):
         checks, new, true_q = [], [], {}
         for atom in self.atoms:
-            chk, angles, tq = check_peak(
-                atom, mech, self.grid, self.problem.speed, self.rtol, self.n_dense
-            )
+            try:
+                chk, angles, tq = check_peak(
+                    atom, mech, self.grid, self.problem.speed, self.rtol, self.n_dense
+                )
+            except MechanismError as exc:
+                where = list(getattr(exc, "angles", ()))
+                if not where:
+                    raise _Unassembled(str(exc)) from exc
+                return [], where, {}
             checks.append(chk)
             new.extend(angles)
             true_q[id(atom.measure)] = tq
@@ -329,7 +346,10 @@ class _Certifier:
         while True:
             if run.design is None:
                 return run, (), False, {}
-            checks, new, true_q = self.checks(run.design)
+            try:
+                checks, new, true_q = self.checks(run.design)
+            except _Unassembled:
+                return replace(run, design=None, violation=np.inf), (), False, {}
             if not new:
                 return run, tuple(checks), True, true_q
             if self.rounds >= self.max_rounds:
@@ -442,9 +462,12 @@ def solve(
         optima, hits = (), 0
         value, cvs = np.nan, ()
         if best.design is not None:
-            checks, _, true_q = cert.checks(best.design)
-            checks = tuple(checks)
-            value, cvs = _final(problem, cert.tr, best.design, true_q, n_dense)
+            try:
+                checks, _, true_q = cert.checks(best.design)
+                checks = tuple(checks)
+                value, cvs = _final(problem, cert.tr, best.design, true_q, n_dense)
+            except (MechanismError, _Unassembled):  # not assembled over the whole cycle
+                checks, true_q, value, cvs = (), {}, np.nan, ()
     tr = cert.tr
     violated = [c for c in cvs if not c.satisfied]
     if best.design is not None and _feasible(best, tol) and not violated:
@@ -540,7 +563,11 @@ def _certify_all(problem, feasible, method, options, rtol, max_rounds, n_dense):
         if run.design is None:
             outcomes.append(None)
             continue
-        value, cvs = _final(problem, cert.tr, run.design, true_q, n_dense)
+        try:
+            value, cvs = _final(problem, cert.tr, run.design, true_q, n_dense)
+        except MechanismError:  # refinement rounds ran out before it assembled everywhere
+            outcomes.append(None)
+            continue
         ok = _feasible(run, tol) and all(c.satisfied for c in cvs)
         rank = 0 if (ok and certified) else (1 if ok else 2)
         key = (rank, sign * value if np.isfinite(value) else np.inf)
@@ -549,8 +576,12 @@ def _certify_all(problem, feasible, method, options, rtol, max_rounds, n_dense):
     if not valid:  # every certification lost the design: report the best start as found
         cert = _Certifier(problem, method, options, rtol, max_rounds, n_dense)
         rep = reps[0]
-        checks, _, true_q = cert.checks(rep.design)
-        value, cvs = _final(problem, cert.tr, rep.design, true_q, n_dense)
+        try:
+            checks, _, true_q = cert.checks(rep.design)
+            value, cvs = _final(problem, cert.tr, rep.design, true_q, n_dense)
+        except (MechanismError, _Unassembled):  # it cannot be assembled over the whole cycle
+            rep = replace(rep, design=None, violation=np.inf)
+            checks, true_q, value, cvs = (), {}, np.nan, ()
         return (rep, tuple(checks), False, true_q, cert, value, cvs), (), 0
     i_best, (_, chosen) = min(valid, key=lambda io: io[1][0])
     # distinct certified designs among the good outcomes, their true values

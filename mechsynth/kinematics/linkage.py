@@ -1,0 +1,1080 @@
+"""General planar linkages: ground points, one driving crank and groups added in solving order.
+
+A :class:`Linkage` is written the way an engineer sketches one: fix the ground points, add the
+crank, then each group in the order it can be solved, naming the points it joins::
+
+    lk = (ms.Linkage(ground={"O": (0, 0), "D": (0.12, 0.05)})
+          .crank("A", about="O", length=0.03)
+          .rrr("B", ("A", 0.12), ("D", 0.08))
+          .attach("K", on=("D", "B"), along=-0.05)
+          .rrp("N", ("K", 0.10), guide=((0.12, 0.0), ms.deg(57))))
+
+Every dimension is a named parameter (``lk.parameters``; default names such as ``"AB"`` for the
+length of the link A-B, ``"D_x"`` for a ground coordinate, ``"N_guide_angle"``); a linkage is an
+immutable value, every builder returns a new one, and ``lk.with_parameters(AB=0.13)`` (or
+``lk(AB=0.13)``) gives the same linkage with other dimensions. Parameters may be numbers, numpy
+arrays (a batch of designs: give them a trailing axis of length 1) or CasADi symbols, and the
+motion is computed by the blocks of :mod:`~mechsynth.kinematics.blocks`, so one definition serves
+numpy analysis, CasADi gradients, optimization (:class:`~mechsynth.synthesis.Problem`), charts
+(:func:`~mechsynth.synthesis.sweep`) and kinetostatics (:meth:`Linkage.force_model`).
+
+Conventions (see ``docs/linkages.md``)
+--------------------------------------
+* SI units; angles in rad from +x, counter-clockwise; the crank angle ``phi`` drives (analogs are
+  derivatives with respect to it); the crank's link angle is ``phi + phase``.
+* ``branch=+1`` of an RRR group puts its point to the left of the directed line first -> second
+  point; of an RRP group, the slider ahead of the foot of the rod's start along the guide
+  direction; of an RPR group, the block on the positive axis of the link; of a follower, the
+  outermost contact ahead along the guide.
+* Link angles: the crank and the links of dyads point from the point they hang on to the new
+  point (``"AB"``: A -> B); a slider's angle is its guide's direction; an RPR link's angle is its
+  axis direction.
+* A point rigidly attached to a body lies ``along`` its frame's x axis and ``left`` of it; the
+  frame given as ``("D", "B")`` has its origin at D and its x axis along D -> B.
+"""
+
+from __future__ import annotations
+
+import numbers
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..errors import MechanismError
+from . import ops
+from .curves import Curve
+from .linkage_groups import (
+    FRAME,
+    AttachGroup,
+    Body,
+    CrankGroup,
+    FollowerGroup,
+    Frame,
+    Group,
+    Guide,
+    Joint,
+    Param,
+    RPRGroup,
+    RRPGroup,
+    RRRGroup,
+    _State,
+)
+from .mechanism import check_finite, check_length, speed_pair
+from .tracks import LinkTrack, Motion, PointJet, PointTrack, SliderTrack
+
+__all__ = ["Linkage", "Param", "Topology", "GuideLine", "Profile"]
+
+#: parameter kinds and what they must be
+KINDS = {
+    "length": "a positive length in m",
+    "coordinate": "a finite coordinate in m",
+    "offset": "a finite signed distance in m",
+    "angle": "a finite angle in rad",
+    "radius": "a non-negative radius in m",
+}
+
+#: crank angles of the numeric assembly screen (feasibility_constraints) and of the time ratio
+_SCREEN_ANGLES = 360
+_SPAN_SAMPLES = 72
+
+
+def _check_value(name, kind, value):
+    if ops.is_symbolic(value):
+        return value
+    if kind == "length":
+        return check_length(name, value)
+    value = check_finite(name, value)
+    if kind == "radius" and np.any(np.asarray(value) < 0.0):
+        raise ValueError(f"{name} must not be negative (a radius in m), got {value}")
+    return value
+
+
+def _branch(value, what):
+    if value not in (1, -1):
+        raise ValueError(f"{what}: branch must be +1 or -1, got {value!r}")
+    return int(value)
+
+
+@dataclass(frozen=True)
+class GuideLine:
+    """A slider's straight guide, for drawings: the line through ``through`` at ``angle``.
+
+    ``carrier`` is ``"frame"`` for a fixed guide, else the body that carries it; ``line(motion)``
+    gives its point and direction at every angle of a motion.
+    """
+
+    slider: str
+    carrier: str
+    group: Any = field(repr=False)
+    linkage: Any = field(repr=False)
+
+    def line(self, motion: Motion):
+        """``(x, y, angle)`` of the guide at the angles of ``motion`` (m, m, rad)."""
+        st = self.linkage._solve(np.asarray(motion.phi, dtype=float), strict=False)
+        from .linkage_groups import _guide_line
+
+        g, theta, _ = _guide_line(st, self.group.guide, self.group)
+        zero = 0.0 * st.points[self.group.key].x
+        return g.x + zero, g.y + zero, theta.value + zero
+
+
+@dataclass(frozen=True)
+class Profile:
+    """A cam profile, for drawings: the ``curve`` in the frame of ``body`` (origin at the point
+    ``origin``, x axis along ``origin -> axis``, or the body's angle when ``axis`` is None)."""
+
+    follower: str
+    body: str
+    origin: str
+    axis: str | None
+    curve: Curve
+    values: dict
+
+    def local(self, n: int = 200):
+        """``(x, y)`` of ``n`` points of the curve in its frame (m)."""
+        lo, hi = self.curve.domain
+        sigma = np.linspace(lo, hi, int(n))
+        x, y, *_ = self.curve.jet(sigma, self.values)
+        return np.broadcast_to(x, sigma.shape), np.broadcast_to(y, sigma.shape)
+
+    def world(self, motion: Motion, n: int = 200):
+        """``(X, Y)`` arrays of shape ``angles x n``: the curve placed at every angle."""
+        x, y = self.local(n)
+        o = motion.points[self.origin]
+        if self.axis is None:
+            th = np.asarray(motion.links[self.body].angle, dtype=float)
+        else:
+            q = motion.points[self.axis]
+            th = np.arctan2(np.asarray(q.y) - o.y, np.asarray(q.x) - o.x)
+        c, s = np.cos(th)[..., None], np.sin(th)[..., None]
+        ox, oy = np.asarray(o.x)[..., None], np.asarray(o.y)[..., None]
+        return ox + c * x - s * y, oy + s * x + c * y
+
+
+@dataclass(frozen=True)
+class Topology:
+    """What a drawing (or a reader) needs to know about a linkage's structure.
+
+    Attributes
+    ----------
+    ground : ``{point: (x, y)}`` of the ground points (m).
+    bodies : ``{name: Body}`` of the moving links, in solving order; ``Body.base`` is its frame's
+        origin and ``points`` below lists every point it joins.
+    points : ``{body: (point, ...)}``: the points each moving body joins (pins, attached points).
+    joints : every kinematic pair (:class:`~mechsynth.kinematics.linkage_groups.Joint`).
+    guides : ``{slider: GuideLine}`` of the sliders on straight guides.
+    profiles : ``{follower: Profile}`` of the cam profiles.
+    driver : the crank's body.
+    """
+
+    ground: dict
+    bodies: dict
+    points: dict
+    joints: tuple
+    guides: dict
+    profiles: dict
+    driver: str
+
+
+class Linkage:
+    """A planar linkage: ground points, a driving crank and groups in solving order.
+
+    Parameters
+    ----------
+    ground : ``{name: (x, y)}`` ground points (m); a coordinate may be a :class:`Param`.
+    name : a name for reports and charts.
+
+    Examples
+    --------
+    A four-bar with an extra rod and slider (the six-link of paper 001):
+
+    >>> import mechsynth as ms
+    >>> lk = (ms.Linkage(ground={"O": (0, 0), "D": (0.12, 0.05)})
+    ...       .crank("A", about="O", length=0.03)
+    ...       .rrr("B", ("A", 0.12), ("D", 0.08))
+    ...       .attach("K", on=("D", "B"), along=-0.05)
+    ...       .rrp("N", ("K", 0.10), guide=((0.12, 0.0), ms.deg(57))))
+    >>> list(lk.parameters)[4:10]
+    ['OA', 'phase', 'AB', 'DB', 'K_along', 'K_left']
+    >>> m = lk.motion(ms.cycle(360), speed=ms.rpm(1500))
+    >>> m.sliders["N"].velocity.shape, round(float(ms.to_deg(m.pressure_angles["N"].max())), 2)
+    ((360,), 13.16)
+    """
+
+    def __init__(self, ground: Mapping[str, Any] | None = None, name: str = "linkage"):
+        self._name = str(name)
+        self._ground: tuple = ()
+        self._groups: tuple = ()
+        self._values: dict = {}
+        self._kinds: dict = {}
+        self._roles: dict = {}
+        self._output: str | None = None
+        self._bodies: dict = {}
+        self._owner: dict = {}
+        self._members: dict = {}
+        for point, xy in (ground or {}).items():
+            self._add_ground(point, xy)
+        self._freeze()
+
+    # ------------------------------------------------------------------ immutability
+    def __setattr__(self, key, value):
+        if self.__dict__.get("_frozen", False):
+            raise AttributeError("a Linkage is immutable: its builders return new linkages")
+        object.__setattr__(self, key, value)
+
+    def _copy(self) -> Linkage:
+        """An unfrozen copy for a builder to extend (then ``_freeze``)."""
+        new = object.__new__(Linkage)
+        for k, v in self.__dict__.items():
+            if k != "_frozen":
+                new.__dict__[k] = dict(v) if isinstance(v, dict) else v
+        return new
+
+    def _freeze(self) -> Linkage:
+        """Derive the structure (bodies, owners of points, members of bodies) and freeze."""
+        bodies: dict[str, Body] = {}
+        owner: dict[str, str] = {p: FRAME for p, _, _ in self._ground}
+        members: dict[str, list[str]] = {}
+        for g in self._groups:
+            for b in g.bodies():
+                bodies[b.name] = b
+                members[b.name] = [x for x in (b.base, b.axis) if x]
+            new = g.new_point()
+            if new is not None:
+                point, body = new
+                owner[point] = body
+                if point not in members[body]:
+                    members[body].append(point)
+        self._bodies, self._owner = bodies, owner
+        self._members = {k: tuple(v) for k, v in members.items()}
+        self._frozen = True
+        return self
+
+    def _param(self, raw, default_name, kind, role):
+        """Register one dimension; returns its parameter name."""
+        if isinstance(raw, Param):
+            name, value = raw.name, raw.value
+        else:
+            name, value = default_name, raw
+        if not name.isidentifier():
+            raise ValueError(f"parameter name {name!r} must be an identifier")
+        if name in self._values:
+            raise ValueError(
+                f"parameter {name!r} ({role}) is already {self._roles[name]}: name it with "
+                f"Param('...', value)"
+            )
+        if isinstance(value, bool) or not (
+            isinstance(value, numbers.Real) or hasattr(value, "shape") or ops.is_symbolic(value)
+        ):
+            raise ValueError(f"{role} ({name}) must be a number, got {value!r}")
+        self._values[name] = _check_value(name, kind, value)
+        self._kinds[name] = kind
+        self._roles[name] = role
+        return name
+
+    def _add_ground(self, point, xy):
+        self._check_new_point(point)
+        try:
+            x, y = xy
+        except (TypeError, ValueError):
+            raise ValueError(f"ground point {point!r}: expected (x, y), got {xy!r}") from None
+        xp = self._param(x, f"{point}_x", "coordinate", f"x of ground point {point}")
+        yp = self._param(y, f"{point}_y", "coordinate", f"y of ground point {point}")
+        self._ground = self._ground + ((point, xp, yp),)
+
+    def _check_new_point(self, point):
+        if not isinstance(point, str) or not point.isidentifier():
+            raise ValueError(f"a point name must be an identifier, got {point!r}")
+        if point in self.points:
+            raise ValueError(f"point {point!r} exists already; points: {', '.join(self.points)}")
+
+    def _known_point(self, point, what):
+        if point not in self.points:
+            known = ", ".join(self.points) or "none yet"
+            raise ValueError(f"{what}: unknown point {point!r}; known points: {known}")
+        return point
+
+    def _check_new_body(self, name):
+        if not isinstance(name, str) or not name.isidentifier():
+            raise ValueError(f"a link name must be an identifier, got {name!r}")
+        if name in self._bodies or name == FRAME:
+            raise ValueError(f"link {name!r} exists already; name it with link=...")
+        return name
+
+    def _free_body(self, name):
+        """``name``, or ``name_2``, ... when a body has that name already."""
+        base, k = name, 2
+        while name in self._bodies:
+            name, k = f"{base}_{k}", k + 1
+        return name
+
+    def _with(self, group: Group) -> Linkage:
+        """This (unfrozen) copy with ``group`` appended, frozen."""
+        self._groups = self._groups + (group,)
+        return self._freeze()
+
+    def _frame(self, on, what) -> Frame:
+        """A body frame from ``on``: a body name, or a pair of points of one body."""
+        if isinstance(on, str):
+            if on not in self._bodies:
+                raise ValueError(
+                    f"{what}: unknown link {on!r}; links: {', '.join(self._bodies) or 'none'}"
+                )
+            return Frame(on, self._bodies[on].base, None)
+        try:
+            p, q = on
+        except (TypeError, ValueError):
+            raise ValueError(
+                f"{what}: 'on' must be a link name or a pair of points (origin, axis point) of "
+                f"one link, got {on!r}"
+            ) from None
+        self._known_point(p, what)
+        self._known_point(q, what)
+        for name, pts in self._members.items():
+            if p in pts and q in pts:
+                return Frame(name, p, q)
+        raise ValueError(
+            f"{what}: points {p!r} and {q!r} are not on one moving link "
+            f"(links and their points: "
+            + "; ".join(f"{k}: {', '.join(v)}" for k, v in self._members.items())
+            + ")"
+        )
+
+    def _guide(self, guide, offset, key, what):
+        """Register a guide's parameters; returns (Guide, params)."""
+        try:
+            through, angle = guide
+        except (TypeError, ValueError):
+            raise ValueError(
+                f"{what}: guide must be (through, angle): through (x, y), a ground point or a "
+                f"link (name or pair of its points); got {guide!r}"
+            ) from None
+        params = []
+        role = "guide of " + key
+        if isinstance(through, str) and through in self._owner and self._owner[through] == FRAME:
+            g = Guide(through=through)
+        elif isinstance(through, str) or (
+            isinstance(through, tuple | list) and all(isinstance(t, str) for t in through)
+        ):
+            frame = self._frame(through, what)
+            g = Guide(through=frame.origin, frame=frame)
+        else:
+            try:
+                gx, gy = through
+            except (TypeError, ValueError):
+                raise ValueError(f"{what}: guide point must be (x, y), got {through!r}") from None
+            if offset is not None:
+                raise ValueError(
+                    f"{what}: offset applies to a guide through a named point; move the "
+                    "coordinates instead"
+                )
+            params.append(("x", self._param(gx, f"{key}_guide_x", "coordinate", f"x of {role}")))
+            params.append(("y", self._param(gy, f"{key}_guide_y", "coordinate", f"y of {role}")))
+            g = Guide()
+        params.append(
+            ("angle", self._param(angle, f"{key}_guide_angle", "angle", f"angle of {role}"))
+        )
+        if g.through is not None:
+            params.append(
+                (
+                    "offset",
+                    self._param(
+                        0.0 if offset is None else offset,
+                        f"{key}_guide_offset",
+                        "offset",
+                        f"offset of {role} to the left of {g.through}",
+                    ),
+                )
+            )
+        return g, params
+
+    # ------------------------------------------------------------------ builders
+    def ground_point(self, point: str, x, y) -> Linkage:
+        """A new ground point at (x, y) (m)."""
+        new = self._copy()
+        new._add_ground(point, (x, y))
+        return new._freeze()
+
+    def crank(self, point: str, about: str, length, phase=0.0, link: str | None = None):
+        """The driving crank: ``point`` at ``length`` (m) from the ground point ``about``, at the
+        angle ``phi + phase`` (rad) from +x. Its link is named ``link`` (default
+        ``about + point``, e.g. ``"OA"``); parameters ``"OA"`` (length) and ``"phase"``."""
+        if any(isinstance(g, CrankGroup) for g in self._groups):
+            raise ValueError("the linkage has a crank already (one driver)")
+        new = self._copy()
+        what = f"crank {point}"
+        new._check_new_point(point)
+        new._known_point(about, what)
+        if new._owner[about] != FRAME:
+            raise ValueError(f"{what}: the crank turns about a ground point; {about!r} moves")
+        link = new._check_new_body(link or f"{about}{point}")
+        params = (
+            ("length", new._param(length, f"{about}{point}", "length", f"length of crank {link}")),
+            ("phase", new._param(phase, "phase", "angle", "phase of the crank angle")),
+        )
+        return new._with(CrankGroup(point, params, about=about, link=link))
+
+    def _require_crank(self, what):
+        if not self._groups or not isinstance(self._groups[0], CrankGroup):
+            raise ValueError(f"{what}: add the crank first (groups are solved in order)")
+
+    def rrr(self, point: str, first, second, branch: int = 1, links=None) -> Linkage:
+        """RRR dyad: ``point`` at the given distances from two known points,
+        ``first = (P, l1)`` and ``second = (Q, l2)``; ``branch`` +1 puts it to the left of the
+        directed line P -> Q. Links ``links=(name1, name2)`` (default ``"P" + point`` and
+        ``"Q" + point``), length parameters named the same."""
+        what = f"RRR group {point}"
+        self._require_crank(what)
+        new = self._copy()
+        new._check_new_point(point)
+        (p, l1), (q, l2) = _pair(first, what, "first"), _pair(second, what, "second")
+        new._known_point(p, what)
+        new._known_point(q, what)
+        if p == q:
+            raise ValueError(f"{what}: the two points must differ, got {p!r} twice")
+        n1, n2 = links if links is not None else (f"{p}{point}", f"{q}{point}")
+        n1, n2 = new._check_new_body(n1), new._check_new_body(n2)
+        params = (
+            ("l1", new._param(l1, n1, "length", f"length of link {n1} ({p}-{point})")),
+            ("l2", new._param(l2, n2, "length", f"length of link {n2} ({q}-{point})")),
+        )
+        group = RRRGroup(
+            point, params, first=p, second=q, branch=_branch(branch, what), links=(n1, n2)
+        )
+        return new._with(group)
+
+    def rrp(
+        self,
+        point: str,
+        rod,
+        guide,
+        offset=None,
+        branch: int = 1,
+        link: str | None = None,
+        slider: str | None = None,
+    ) -> Linkage:
+        """RRP dyad: a rod ``rod = (P, length)`` from the known point P to the slider ``point`` on
+        a straight guide.
+
+        ``guide = (through, angle)``: ``through`` is (x, y) for a fixed guide through those
+        coordinates, a ground point's name for a fixed guide through it, or a link (its name, or
+        a pair of its points ``(origin, axis point)``) for a guide carried by that moving link
+        through the frame's origin, ``angle`` measured from that frame's x axis. A guide through
+        a named point lies ``offset`` (m) to the left of it. ``branch`` +1 puts the slider ahead
+        of the foot of P along the guide direction. The rod is the link ``link`` (default
+        ``P + point``), the slider block the body ``slider`` (default ``point``).
+        """
+        what = f"RRP group {point}"
+        self._require_crank(what)
+        new = self._copy()
+        new._check_new_point(point)
+        p, length = _pair(rod, what, "rod")
+        new._known_point(p, what)
+        link = new._check_new_body(link or f"{p}{point}")
+        slider = new._check_new_body(slider or new._free_body(point))
+        rod_param = new._param(length, link, "length", f"length of rod {link} ({p}-{point})")
+        g, gparams = new._guide(guide, offset, point, what)
+        params = (("length", rod_param), *gparams)
+        group = RRPGroup(
+            point,
+            params,
+            start=p,
+            guide=g,
+            branch=_branch(branch, what),
+            link=link,
+            slider=slider,
+        )
+        return new._with(group)
+
+    def rpr(
+        self,
+        link: str,
+        about: str,
+        through: str,
+        offset=0.0,
+        branch: int = 1,
+        block: str | None = None,
+    ) -> Linkage:
+        """RPR dyad: a new link ``link`` turning about the known point ``about`` passes through a
+        block pinned at the known point ``through`` (an oscillating slotted lever, or a rod in a
+        swinging block); the slot lies ``offset`` (m) to the left of the link's axis through
+        ``about`` (parameter ``link + "_offset"``). ``branch`` +1 takes the block on the link's
+        positive axis. The block is the body ``block`` (default ``through``)."""
+        what = f"RPR group {link}"
+        self._require_crank(what)
+        new = self._copy()
+        link = new._check_new_body(link)
+        new._known_point(about, what)
+        new._known_point(through, what)
+        if about == through:
+            raise ValueError(f"{what}: about and through must differ, got {about!r} twice")
+        block = new._check_new_body(block or new._free_body(through))
+        params = (
+            ("offset", new._param(offset, f"{link}_offset", "offset", f"slot offset of {link}")),
+        )
+        group = RPRGroup(
+            link, params, about=about, through=through, branch=_branch(branch, what), block=block
+        )
+        return new._with(group)
+
+    def attach(self, point: str, on, along=0.0, left=0.0) -> Linkage:
+        """A point rigidly attached to a moving link: ``along`` (m) along the frame's x axis from
+        its origin and ``left`` (m) to its left. ``on`` is a link name (its own frame) or a pair
+        of points of one link ``(origin, axis point)``. Parameters ``point + "_along"``,
+        ``point + "_left"``."""
+        what = f"point {point}"
+        self._require_crank(what)
+        new = self._copy()
+        new._check_new_point(point)
+        frame = new._frame(on, what)
+        axis = f"{frame.origin}->{frame.axis}" if frame.axis else f"the axis of {frame.body}"
+        params = (
+            ("along", new._param(along, f"{point}_along", "offset", f"{point} along {axis}")),
+            ("left", new._param(left, f"{point}_left", "offset", f"{point} left of {axis}")),
+        )
+        return new._with(AttachGroup(point, params, frame=frame))
+
+    def follower(
+        self,
+        point: str,
+        on,
+        profile: Curve,
+        guide,
+        offset=None,
+        roller=0.0,
+        face=None,
+        branch: int = 1,
+        side: int = 1,
+        slider: str | None = None,
+    ) -> Linkage:
+        """Higher pair: a translating follower ``point`` on a fixed straight guide, pressed on the
+        ``profile`` curve carried by the link ``on`` (a name, or a pair of its points giving the
+        profile's frame).
+
+        Parameters
+        ----------
+        guide, offset : the follower's fixed guide, as in :meth:`rrp` (``(x, y)`` or a ground
+            point, and the angle).
+        roller : roller radius (m; 0 for a point follower), or
+        face : for a flat-faced follower, the angle (rad) of the face's normal from the guide
+            direction (0: the face is perpendicular to the guide).
+        branch : +1: the follower rests on the profile's outermost contact ahead along the
+            guide direction; -1: the hindmost.
+        side : +1: the roller runs on the right of the curve's direction of travel (outside a
+            counter-clockwise closed profile); -1: on its left.
+        slider : the follower's body name (default ``point``).
+
+        The profile's dimensions become parameters ``point + "_profile_" + role`` (e.g.
+        ``"N_profile_radius"``); the roller radius ``point + "_roller"``, the face angle
+        ``point + "_face"``. The geometric contact point is ``point + "_contact"`` in the motion,
+        the common normal's angle ``motion.extra[point + " normal"]``.
+        """
+        what = f"higher pair {point}"
+        self._require_crank(what)
+        if not isinstance(profile, Curve):
+            raise TypeError(
+                f"{what}: profile must be a curve (Circle, Involute, ParametricCurve), got "
+                f"{profile!r}"
+            )
+        new = self._copy()
+        new._check_new_point(point)
+        new._check_new_point(f"{point}_contact")
+        frame = new._frame(on, what)
+        slider = new._check_new_body(slider or new._free_body(point))
+        g, gparams = new._guide(guide, offset, point, what)
+        if g.frame is not None:
+            raise ValueError(f"{what}: a follower's guide must be fixed (coordinates or ground)")
+        params = list(gparams)
+        for role, (raw, kind) in profile.roles.items():
+            params.append(
+                (
+                    f"profile_{role}",
+                    new._param(
+                        raw, f"{point}_profile_{role}", kind, f"{role} of the profile of {point}"
+                    ),
+                )
+            )
+        flat = face is not None
+        if flat:
+            params.append(("face", new._param(face, f"{point}_face", "angle", f"face of {point}")))
+        else:
+            params.append(
+                ("roller", new._param(roller, f"{point}_roller", "radius", f"roller of {point}"))
+            )
+        group = FollowerGroup(
+            point,
+            tuple(params),
+            frame=frame,
+            profile=profile,
+            guide=g,
+            flat=flat,
+            branch=_branch(branch, what),
+            side=_branch(side, what + " (side)"),
+            slider=slider,
+        )
+        return new._with(group)
+
+    def with_output(self, point: str) -> Linkage:
+        """The same linkage with ``point`` as its main output (``default_output``; its group's
+        pressure angle is ``motion.pressure_angle``; a slider output is ``motion.slider``)."""
+        self._known_point(point, "output")
+        new = self._copy()
+        new._output = point
+        return new._freeze()
+
+    def with_parameters(self, **values) -> Linkage:
+        """The same linkage with other parameter values (validated; numbers, arrays of designs or
+        CasADi symbols)."""
+        new = self._copy()
+        for name, value in values.items():
+            if name not in self._values:
+                raise ValueError(
+                    f"{self._name} has no parameter {name!r}; its parameters: "
+                    + ", ".join(self._values)
+                )
+            new._values[name] = _check_value(name, self._kinds[name], value)
+        return new._freeze()
+
+    __call__ = with_parameters
+
+    def rename(self, **names) -> Linkage:
+        """The same linkage with parameters renamed: ``lk.rename(AB="coupler")``."""
+        for old, nw in names.items():
+            if old not in self._values:
+                raise ValueError(
+                    f"no parameter {old!r} to rename; parameters: {', '.join(self._values)}"
+                )
+            if not isinstance(nw, str) or not nw.isidentifier():
+                raise ValueError(f"new name for {old!r} must be an identifier, got {nw!r}")
+        order = [names.get(k, k) for k in self._values]
+        if len(set(order)) != len(order):
+            raise ValueError(f"renaming {names} would give two parameters the same name")
+        new = self._copy()
+        new._values = {names.get(k, k): v for k, v in self._values.items()}
+        new._kinds = {names.get(k, k): v for k, v in self._kinds.items()}
+        new._roles = {names.get(k, k): v for k, v in self._roles.items()}
+        new._ground = tuple((p, names.get(x, x), names.get(y, y)) for p, x, y in self._ground)
+        new._groups = tuple(g.renamed(names) for g in self._groups)
+        return new._freeze()
+
+    # ------------------------------------------------------------------ description
+    @property
+    def __name__(self) -> str:
+        """The linkage's name: a linkage stands where a mechanism class stands (Problem,
+        sweep), and calling it with parameter values gives the design with those values."""
+        return self._name
+
+    @property
+    def name(self) -> str:
+        return self._name
+
+    @property
+    def parameters(self) -> dict[str, Any]:
+        """``{name: value}`` of every dimension, in the order they were added."""
+        return dict(self._values)
+
+    def params(self) -> dict[str, Any]:
+        """The parameters as a dict (the protocol of the named mechanisms)."""
+        return dict(self._values)
+
+    @property
+    def parameter_kinds(self) -> dict[str, str]:
+        """``{name: kind}``: ``"length"`` (positive), ``"coordinate"``, ``"offset"``,
+        ``"angle"``, ``"radius"`` (non-negative)."""
+        return dict(self._kinds)
+
+    @property
+    def parameter_roles(self) -> dict[str, str]:
+        """``{name: what it is}``, e.g. ``{"AB": "length of link AB (A-B)"}``."""
+        return dict(self._roles)
+
+    @property
+    def points(self) -> tuple[str, ...]:
+        """Every point: ground points first, then in solving order (contact points included)."""
+        out = [p for p, _, _ in self._ground]
+        for g in self._groups:
+            new = g.new_point()
+            if new is not None:
+                out.append(new[0])
+            if isinstance(g, FollowerGroup):
+                out.append(g.contact_point)
+        return tuple(out)
+
+    @property
+    def links(self) -> tuple[str, ...]:
+        """The moving bodies' names, in solving order."""
+        return tuple(self._bodies)
+
+    @property
+    def groups(self) -> tuple[Group, ...]:
+        return self._groups
+
+    @property
+    def sliders(self) -> tuple[str, ...]:
+        """Names of the sliding blocks (RRP sliders, RPR blocks, followers)."""
+        return tuple(b.name for b in self._bodies.values() if b.kind not in ("link", "crank"))
+
+    @property
+    def default_output(self) -> str:
+        """The main output point: set by :meth:`with_output`, else the last group's point."""
+        if self._output is not None:
+            return self._output
+        for g in reversed(self._groups):
+            new = g.new_point()
+            if new is not None:
+                return new[0]
+        raise ValueError("the linkage has no moving point yet: add a crank")
+
+    @property
+    def assembly_conditions(self) -> tuple[str, ...]:
+        """Names of the assembly conditions (one per dyad; a follower's contact and profile
+        ends); ``motion.extra["assembly margins"]`` holds their per-angle margins."""
+        return tuple(c for g in self._groups for c in g.conditions())
+
+    @property
+    def is_symbolic(self) -> bool:
+        return ops.is_symbolic(*self._values.values())
+
+    def describe(self) -> str:
+        """A readable listing of the groups and the parameters with their values."""
+        lines = [f"{self._name}: ground " + ", ".join(p for p, _, _ in self._ground)]
+        for g in self._groups:
+            lines.append(f"  {g.label}")
+        lines.append("parameters:")
+        for k, v in self._values.items():
+            val = f"{v:.6g}" if isinstance(v, float | int) else repr(v)
+            lines.append(f"  {k:18s} = {val:>12s}   {self._roles[k]}")
+        return "\n".join(lines)
+
+    def __repr__(self) -> str:
+        kinds = " + ".join(g.kind for g in self._groups) or "no groups"
+        return f"<Linkage {self._name!r}: {kinds}; {len(self._values)} parameters>"
+
+    # ------------------------------------------------------------------ solving
+    def _solve(self, phi, strict=True) -> _State:
+        if not self._groups:
+            raise ValueError(f"{self._name} has no crank: add one with .crank(...)")
+        v = self._values
+        st = _State(phi, v, strict, self._bodies)
+        for p, x, y in self._ground:
+            st.points[p] = PointJet(v[x], v[y], 0.0, 0.0, 0.0, 0.0)
+        with np.errstate(invalid="ignore", divide="ignore") if not strict else _nullcontext():
+            for g in self._groups:
+                try:
+                    g.solve(st)
+                except MechanismError as exc:
+                    err = MechanismError(f"{g.label}: {exc}")
+                    err.angles = getattr(exc, "angles", ())
+                    err.group = g.key
+                    raise err from None
+        return st
+
+    def jets(self, phi):
+        """``(points, links, sliders)``: dicts of the jets (position and crank-angle analogs)."""
+        st = self._solve(phi)
+        return st.points, st.links, st.sliders
+
+    def motion(self, phi, speed=None, epsilon=0.0) -> Motion:
+        """Motion over crank angles ``phi`` (rad).
+
+        Parameters
+        ----------
+        phi : crank angles, any shape (broadcast against array parameters).
+        speed : crank angular velocity (rad/s, e.g. ``ms.rpm(600)``); None gives analogs.
+        epsilon : crank angular acceleration (rad/s^2), with a speed.
+
+        Returns
+        -------
+        Motion with every point (ground points too) in ``points``, every moving body's angle in
+        ``links``, the sliders' positions along their guides in ``sliders`` (the output slider
+        first), per group ``pressure_angles`` and ``transmission_angles`` (the output's group
+        also as ``pressure_angle`` / ``transmission_angle``), and in ``extra`` the per-angle
+        ``"assembly margins"`` and each follower's common normal (``"N normal"``, rad).
+
+        Raises
+        ------
+        MechanismError
+            naming the group, the crank angle and the violated condition where a group cannot
+            be assembled (or its links are in line: a toggle).
+        """
+        omega, eps = speed_pair(speed, epsilon)
+        st = self._solve(phi)
+        crank_key = self._groups[0].key
+        zero = 0.0 * st.points[crank_key].x
+        points = {}
+        for name, p in st.points.items():
+            if name in self._owner and self._owner[name] == FRAME:
+                p = PointJet(p.x + zero, p.y + zero, zero, zero, zero, zero)
+            points[name] = PointTrack.from_jet(p, omega, eps)
+        links = {name: LinkTrack.from_jet(j, omega, eps) for name, j in st.links.items()}
+        out_group = self._group_of(self.default_output)
+        sliders = {k: SliderTrack.from_jet(j, omega, eps) for k, j in st.sliders.items()}
+        main = getattr(out_group, "slider", None) or getattr(out_group, "block", None)
+        if main in sliders:
+            sliders = {main: sliders[main], **{k: s for k, s in sliders.items() if k != main}}
+        key = out_group.key if out_group.key in st.pressure else None
+        if key is None and st.pressure:
+            key = next(reversed(st.pressure))
+        pressure = st.pressure[key] if key is not None else zero
+        transmission = st.transmission[key] if key is not None else None
+        extra = {"assembly margins": st.margins, **st.extra}
+        return Motion(
+            phi=phi,
+            omega=omega,
+            epsilon=eps,
+            points=points,
+            links=links,
+            pressure_angle=pressure,
+            sliders=sliders,
+            transmission_angle=transmission,
+            extra=extra,
+            pressure_angles=dict(st.pressure),
+            transmission_angles=dict(st.transmission),
+        )
+
+    def _group_of(self, point) -> Group:
+        for g in self._groups:
+            new = g.new_point()
+            if (new is not None and new[0] == point) or g.key == point:
+                return g
+        return self._groups[-1]
+
+    def assembly_margins(self, phi) -> dict[str, Any]:
+        """``{condition: margin}`` per crank angle, for any design (never raises): a margin is
+        negative where that group cannot be assembled; NaN where an earlier group failed.
+
+        RRR: ``sin^2`` of the angle between its links; RRP: ``cos^2`` of the rod's angle to the
+        guide; RPR: ``cos^2`` of its pressure angle; follower: its contact's ``cos^2`` of the
+        pressure angle (-1 where the guide misses the profile) and, on an open profile, the
+        distance of the contact from the profile's ends as a fraction of its parameter range.
+        """
+        if self.is_symbolic:
+            return self._solve(phi, strict=True).margins
+        return self._solve(np.asarray(phi, dtype=float), strict=False).margins
+
+    # ------------------------------------------------------------------ feasibility
+    def feasibility_constraints(self, params, margin=1e-3):
+        """Conditions ``g >= 0`` for the optimizers' start points, differential evolution and
+        chart sweeps: positive lengths, and every group assembled at 360 crank angles (the
+        minimum of its assembly margin; ``margin`` is not applied here). Numeric only: with
+        CasADi symbols this is empty, the per-angle margins being constraints of the problem
+        on its certified crank-angle grid (:class:`~mechsynth.synthesis.Problem` adds
+        ``assembly_margin(...) >= margin``).
+
+        ``params`` holds a value per design (numbers or 1-D arrays of designs).
+        """
+        if ops.is_symbolic(*params.values()):
+            return []
+        from ..units import cycle
+
+        cols = {}
+        for k, val in params.items():
+            a = np.asarray(val, dtype=float)
+            cols[k] = a[..., None] if a.ndim and a.shape[-1] != 1 else a
+        lengths = [k for k in cols if self._kinds.get(k) == "length"]
+        rows = [(f"{k} > 0 (a length)", _flat(cols[k])) for k in lengths]
+        ok = np.logical_and.reduce([cols[k] > 0 for k in lengths]) if lengths else True
+        safe = {k: (np.where(ok, v, 1.0) if k in lengths else v) for k, v in cols.items()}
+        margins = self.with_parameters(**safe).assembly_margins(cycle(_SCREEN_ANGLES))
+        for c in self.assembly_conditions:
+            m = np.asarray(margins[c], dtype=float)
+            bad = np.isnan(m).all(axis=-1)
+            worst = np.where(bad, -1.0, np.min(np.where(np.isnan(m), np.inf, m), axis=-1))
+            worst = np.where(_flat(ok), worst, -1.0)
+            rows.append((f"{c} assembles over the cycle", worst if worst.ndim else float(worst)))
+        return rows
+
+    # ------------------------------------------------------------------ cycle properties
+    def _output_quantity(self, st: _State, of: str):
+        """The jet whose extremes are the output's dead centres: a slider's position or a link's
+        angle."""
+        if of in st.sliders:
+            return st.sliders[of]
+        if of in st.links:
+            return st.links[of]
+        raise ValueError(f"{of!r} is neither a slider nor a link of {self._name}")
+
+    def _stroke_output(self) -> str:
+        """The slider or link whose strokes the time ratio compares (of the default output)."""
+        g = self._group_of(self.default_output)
+        if isinstance(g, RRPGroup | FollowerGroup):
+            return g.slider
+        if isinstance(g, RRRGroup):
+            return g.links[1]
+        if isinstance(g, RPRGroup):
+            return g.key
+        if isinstance(g, AttachGroup):
+            return g.frame.body
+        raise ValueError(
+            f"the output {self.default_output!r} of {self._name} has no strokes (the crank)"
+        )
+
+    def dead_centres(self, of: str | None = None):
+        """Crank angles (rad, in about [0, 2 pi)) where the output ``of`` (a slider or link name;
+        default: the main output's slider or rocker) reaches its largest and its smallest value:
+        ``(phi_max, phi_min)``. Found on a grid of 72 angles and refined by Newton steps on the
+        velocity analog, written with ``ops``, so they are differentiable with CasADi."""
+        from ..units import cycle
+
+        of = of or self._stroke_output()
+        symbolic = self.is_symbolic
+        grid = cycle(_SPAN_SAMPLES)
+        st = self._solve(_column_of(grid) if symbolic else grid)
+        q = self._output_quantity(st, of)
+        angle = of not in st.sliders
+
+        def col(x, k):
+            return x[k] if symbolic else np.asarray(x)[..., k : k + 1]
+
+        q0 = col(q.value, 0)
+        hi = lo = phi_hi = phi_lo = None
+        for k in range(_SPAN_SAMPLES):
+            d = col(q.value, k) - q0
+            val = ops.arctan2(ops.sin(d), ops.cos(d)) if angle else d
+            at = float(grid[k]) + 0.0 * val
+            if hi is None:
+                hi, lo, phi_hi, phi_lo = val, val, at, at
+                continue
+            up, down = val > hi, val < lo
+            hi, phi_hi = ops.where(up, val, hi), ops.where(up, at, phi_hi)
+            lo, phi_lo = ops.where(down, val, lo), ops.where(down, at, phi_lo)
+        for _ in range(5):
+            jh = self._output_quantity(self._solve(phi_hi), of)
+            jl = self._output_quantity(self._solve(phi_lo), of)
+            phi_hi = phi_hi - jh.d1 / jh.d2
+            phi_lo = phi_lo - jl.d1 / jl.d2
+        if not symbolic:
+            phi_hi, phi_lo = np.asarray(phi_hi)[..., 0], np.asarray(phi_lo)[..., 0]
+            if phi_hi.ndim == 0:
+                phi_hi, phi_lo = float(phi_hi), float(phi_lo)
+        return phi_hi, phi_lo
+
+    @property
+    def crank_spans(self):
+        """Crank rotation (rad) from the output's largest to its smallest value and back (they
+        add up to 2 pi); see :meth:`dead_centres`."""
+        hi, lo = self.dead_centres()
+        d = lo - hi
+        d = ops.where(d < 0.0, d + 2.0 * np.pi, d)
+        d = ops.where(d >= 2.0 * np.pi, d - 2.0 * np.pi, d)
+        return d, 2.0 * np.pi - d
+
+    @property
+    def time_ratio(self):
+        """Slower stroke over quicker stroke of the main output (>= 1) at constant crank speed."""
+        first, second = self.crank_spans
+        return ops.fmax(first, second) / ops.fmin(first, second)
+
+    # ------------------------------------------------------------------ structure
+    def joints(self) -> tuple[Joint, ...]:
+        """Every kinematic pair, with the names the force model reports them by: a revolute
+        joint is named after its point (``"B"``; a second joint at the same point
+        ``"B_<link>"``), a guide ``"<slider>_guide"``, an RPR slot ``"<link>_slot"``, a cam
+        contact ``"<follower>_contact"``."""
+        out, used = [], set()
+
+        def owner(p):
+            return self._owner[p]
+
+        for g in self._groups:
+            for spec in g.joints(owner):
+                kind, point, on, by = spec[:4]
+                if kind == "revolute":
+                    name = point if point not in used else f"{point}_{on}"
+                    used.add(point)
+                    out.append(Joint("revolute", name, point, on, by))
+                elif kind == "prismatic":
+                    name = (
+                        f"{on}_guide"
+                        if isinstance(g, RRPGroup | FollowerGroup)
+                        else (f"{g.key}_slot")
+                    )
+                    out.append(Joint("prismatic", name, point, on, by, direction=spec[4]))
+                else:
+                    out.append(Joint("contact", point, point, on, by, normal=spec[5]))
+        return tuple(out)
+
+    def topology(self) -> Topology:
+        """Bodies, the points each joins, ground points, joints, guides and cam profiles: what
+        a drawing needs (see :class:`Topology`)."""
+        v = self._values
+        ground = {p: (v[x], v[y]) for p, x, y in self._ground}
+        guides, profiles = {}, {}
+        for g in self._groups:
+            if isinstance(g, RRPGroup | FollowerGroup):
+                guides[g.slider] = GuideLine(g.slider, g.guide.carrier, g, self)
+            if isinstance(g, FollowerGroup):
+                profiles[g.key] = Profile(
+                    g.key,
+                    g.frame.body,
+                    g.frame.origin,
+                    g.frame.axis,
+                    g.profile,
+                    g.profile_values(v),
+                )
+        return Topology(
+            ground=ground,
+            bodies=dict(self._bodies),
+            points=dict(self._members),
+            joints=self.joints(),
+            guides=guides,
+            profiles=profiles,
+            driver=self._groups[0].link if self._groups else "",
+        )
+
+    # ------------------------------------------------------------------ forces
+    def force_model(self, inertias: Mapping | None = None, loads=()):
+        """The :class:`~mechsynth.dynamics.kinetostatics.ForceModel` of this linkage (see
+        :func:`mechsynth.dynamics.linkage_forces.linkage_force_model`): every moving body with
+        its mass properties ``inertias[name]`` (a ``LinkInertia``, or ``(mass, (u, v),
+        inertia)`` in the body's frame; massless when absent), every joint (named as
+        :meth:`joints`), the ``loads`` and the crank as the driver."""
+        if _FORCES.builder is None:  # pragma: no cover - mechsynth.dynamics registers it
+            raise RuntimeError("force models need mechsynth.dynamics (import mechsynth)")
+        return _FORCES.builder(self, inertias, loads)
+
+
+class _ForceBuilder:
+    """The forces layer (:mod:`mechsynth.dynamics`) registers the force-model builder here."""
+
+    builder = None
+
+
+_FORCES = _ForceBuilder()
+
+
+def register_force_builder(fn) -> None:
+    """Called by :mod:`mechsynth.dynamics.linkage_forces` (the layer that owns forces)."""
+    _FORCES.builder = fn
+
+
+def _flat(a):
+    """A per-design column ``(k, 1)`` as ``(k,)`` (scalars unchanged)."""
+    a = np.asarray(a)
+    return a[..., 0] if a.ndim and a.shape[-1] == 1 else a
+
+
+def _column_of(grid):
+    import casadi
+
+    return casadi.DM(grid)
+
+
+class _nullcontext:
+    def __enter__(self):
+        return None
+
+    def __exit__(self, *exc):
+        return False
+
+
+def _pair(value, what, role):
+    try:
+        p, length = value
+    except (TypeError, ValueError):
+        raise ValueError(f"{what}: {role} must be (point, length), got {value!r}") from None
+    if not isinstance(p, str):
+        raise ValueError(f"{what}: {role} must be (point name, length), got {value!r}")
+    return p, length

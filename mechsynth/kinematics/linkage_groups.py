@@ -1,0 +1,580 @@
+"""The groups a :class:`~mechsynth.kinematics.linkage.Linkage` is built from, in solving order.
+
+Each group names the points it joins and the parameters it reads, and, when solved, moves its new
+points and links with the blocks of :mod:`~mechsynth.kinematics.blocks` -- the same functions the
+named mechanisms use. A group also states
+
+* its *assembly margins*: dimensionless, smooth per-angle conditions ``>= 0`` exactly where it can
+  be assembled (the sine squared of the angle between an RRR dyad's links, the cosine squared of
+  an RRP rod's angle to its guide, ...), computed before any square root so that they exist for
+  every design;
+* the bodies it adds (with their frames) and the joints it makes, for the force model and for a
+  drawing.
+
+Groups are frozen values holding parameter *names*; the values live in the linkage.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from . import ops
+from .blocks import (
+    cam_contact,
+    coupler_point,
+    crank,
+    dyad_rpr_on,
+    dyad_rrp,
+    dyad_rrp_on,
+    dyad_rrr,
+    link_angle,
+)
+from .tracks import Jet, PointJet
+
+__all__ = [
+    "Param",
+    "Body",
+    "Joint",
+    "Frame",
+    "Guide",
+    "Group",
+    "CrankGroup",
+    "RRRGroup",
+    "RRPGroup",
+    "RPRGroup",
+    "AttachGroup",
+    "FollowerGroup",
+    "FRAME",
+]
+
+FRAME = "frame"
+
+
+@dataclass(frozen=True)
+class Param:
+    """A dimension with the name you choose: ``length=Param("r", 0.03)`` makes the crank length
+    the linkage parameter ``"r"`` (instead of its default name, e.g. ``"OA"``)."""
+
+    name: str
+    value: Any
+
+    def __post_init__(self):
+        if not isinstance(self.name, str) or not self.name.isidentifier():
+            raise ValueError(
+                f"a parameter name must be an identifier (letters, digits, _), got {self.name!r}"
+            )
+
+
+@dataclass(frozen=True)
+class Body:
+    """A moving link of the linkage.
+
+    Attributes
+    ----------
+    name : its name (also the name of its angle in ``motion.links``).
+    kind : ``"crank"``, ``"link"``, ``"slider"`` (a block on a straight guide), ``"block"`` (the
+        block of an RPR group, sliding on its link) or ``"follower"`` (a cam follower's slider).
+    base : the point at the origin of its frame.
+    axis : the point on its frame's x axis, or None when the angle is not that of a segment (a
+        slider's guide direction, an RPR link's axis).
+    group : the key of the group that made it.
+    """
+
+    name: str
+    kind: str
+    base: str
+    axis: str | None
+    group: str
+
+
+@dataclass(frozen=True)
+class Joint:
+    """A kinematic pair of the linkage (for the force model and drawings).
+
+    ``kind`` is ``"revolute"`` (at ``point``), ``"prismatic"`` (the block ``on`` slides along the
+    angle of the link ``direction`` through ``point``) or ``"contact"`` (a higher pair at the
+    moving contact point ``point``, force along the common normal ``motion.extra[normal]``).
+    The force reported for a joint acts on ``on`` from ``by`` (``"frame"``: the ground).
+    """
+
+    kind: str
+    name: str
+    point: str
+    on: str
+    by: str
+    direction: str | None = None
+    normal: str | None = None
+
+
+@dataclass(frozen=True)
+class Frame:
+    """A body's frame as a group refers to it: origin at ``origin`` (a point of ``body``), x axis
+    along ``origin -> axis`` (None: along the body's own angle)."""
+
+    body: str
+    origin: str
+    axis: str | None = None
+
+
+@dataclass(frozen=True)
+class Guide:
+    """A straight guide: fixed (``carrier`` None) through given coordinates (``through`` None,
+    parameters ``x``, ``y``) or through a ground point, or carried by the body of ``frame``
+    through the frame's origin; its direction is the parameter ``angle`` (rad, from +x for a
+    fixed guide, from the frame's x axis for a carried one); a guide through a point lies the
+    parameter ``offset`` to the left of it."""
+
+    through: str | None = None
+    frame: Frame | None = None
+
+    @property
+    def carrier(self) -> str:
+        return FRAME if self.frame is None else self.frame.body
+
+
+class _State:
+    """What a solve has computed so far (jets, tracks, margins), group by group."""
+
+    def __init__(self, phi, values, strict, bodies):
+        self.phi = phi
+        self.v = values
+        self.strict = strict
+        self.bodies = bodies
+        self.points: dict[str, PointJet] = {}
+        self.links: dict[str, Jet] = {}
+        self.sliders: dict[str, Jet] = {}
+        self.pressure: dict[str, Any] = {}
+        self.transmission: dict[str, Any] = {}
+        self.margins: dict[str, Any] = {}
+        self.extra: dict[str, Any] = {}
+
+    @property
+    def check_phi(self):
+        """The angles the blocks check with (None in a relaxed solve: no checks)."""
+        return self.phi if self.strict else None
+
+    def frame(self, f: Frame):
+        """Origin jet and angle jet of a frame."""
+        origin = self.points[f.origin]
+        body = self.bodies[f.body]
+        if f.axis is None or (f.origin == body.base and f.axis == body.axis):
+            return origin, self.links[f.body]
+        return origin, link_angle(origin, self.points[f.axis])
+
+    def relax(self, jet: PointJet, margin) -> PointJet:
+        """In a relaxed solve, NaN where the group cannot close (so its block does not raise
+        and what depends on it is NaN); the jet unchanged otherwise."""
+        if self.strict or ops.is_symbolic(margin):
+            return jet
+        ok = np.asarray(margin) >= 0.0
+        return PointJet(*(np.where(ok, c, np.nan) for c in jet))
+
+
+@dataclass(frozen=True)
+class Group:
+    """Base of the groups: ``key`` names the group (its new point, or an RPR group's link);
+    ``params`` maps each role (``"length"``, ``"angle"`` ...) to its parameter name."""
+
+    key: str
+    params: tuple = ()
+
+    kind = "group"
+
+    def p(self, v, role):
+        return v[dict(self.params)[role]]
+
+    def has(self, role) -> bool:
+        return role in dict(self.params)
+
+    @property
+    def label(self) -> str:
+        return f"{self.kind} {self.key}"
+
+    def renamed(self, mapping):
+        """A copy with parameter names replaced by ``mapping`` (old -> new)."""
+        from dataclasses import replace
+
+        return replace(self, params=tuple((r, mapping.get(n, n)) for r, n in self.params))
+
+    def requires(self) -> tuple[str, ...]:
+        return ()
+
+    def new_point(self) -> tuple[str, str] | None:
+        """``(point, body that owns it)`` for the group's new point (None: no new point)."""
+        return None
+
+    def conditions(self) -> tuple[str, ...]:
+        """Names of the assembly conditions (keys of the margins)."""
+        return ()
+
+    def solve(self, st: _State) -> None:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+
+def _guide_line(st: _State, guide: Guide, group: Group):
+    """(G jet, angle jet, fixed (gx, gy, angle) or None) of a group's guide."""
+    v = st.v
+    a = group.p(v, "angle")
+    if guide.frame is not None:
+        origin, frame_angle = st.frame(guide.frame)
+        theta = Jet(frame_angle.value + a, frame_angle.d1, frame_angle.d2)
+        g = coupler_point(origin, theta, 0.0, group.p(v, "offset"))
+        return g, theta, None
+    if guide.through is None:
+        gx, gy = group.p(v, "x"), group.p(v, "y")
+    else:
+        p = st.points[guide.through]
+        off = group.p(v, "offset")
+        gx, gy = p.x - off * ops.sin(a), p.y + off * ops.cos(a)
+    return PointJet(gx, gy, 0.0, 0.0, 0.0, 0.0), Jet(a, 0.0, 0.0), (gx, gy, a)
+
+
+# ------------------------------------------------------------------------------ driver
+@dataclass(frozen=True)
+class CrankGroup(Group):
+    """The driver: ``point`` on a crank of length ``length`` about the ground point ``about``, at
+    the angle ``phi + phase`` from +x (counter-clockwise)."""
+
+    about: str = ""
+    link: str = ""
+
+    kind = "crank"
+
+    def requires(self):
+        return (self.about,)
+
+    def solve(self, st):
+        v = st.v
+        o = st.points[self.about]
+        phase = self.p(v, "phase")
+        a = crank(st.phi, self.p(v, "length"), o.x, o.y, phase)
+        zero = 0.0 * a.x
+        st.points[self.key] = a
+        st.links[self.link] = Jet(st.phi + phase + zero, 1.0 + zero, zero)
+
+    def new_point(self):
+        return self.key, self.link
+
+    def bodies(self):
+        return (Body(self.link, "crank", self.about, self.key, self.key),)
+
+    def joints(self, owner):
+        return (("revolute", self.about, self.link, owner(self.about)),)
+
+
+# ------------------------------------------------------------------------------ dyads
+@dataclass(frozen=True)
+class RRRGroup(Group):
+    """RRR dyad: ``key`` at distance ``l1`` from ``first`` (link ``links[0]``) and ``l2`` from
+    ``second`` (link ``links[1]``); ``branch`` +1 puts it left of ``first -> second``."""
+
+    first: str = ""
+    second: str = ""
+    branch: int = 1
+    links: tuple[str, str] = ("", "")
+
+    kind = "RRR"
+
+    @property
+    def label(self):
+        return f"RRR group {self.key} (links {self.links[0]}, {self.links[1]})"
+
+    def requires(self):
+        return (self.first, self.second)
+
+    def conditions(self):
+        return (self.key,)
+
+    def solve(self, st):
+        v = st.v
+        p1, p2 = st.points[self.first], st.points[self.second]
+        l1, l2 = self.p(v, "l1"), self.p(v, "l2")
+        dx, dy = p2.x - p1.x, p2.y - p1.y
+        d2 = dx * dx + dy * dy
+        # sin^2 of the angle between the links: ((l1+l2)^2 - d^2)(d^2 - (l1-l2)^2) / (4 l1^2 l2^2)
+        margin = ((l1 + l2) ** 2 - d2) * (d2 - (l1 - l2) ** 2) / (4.0 * l1 * l1 * l2 * l2)
+        st.margins[self.key] = margin
+        p1 = st.relax(p1, margin)
+        c, t1, t2 = dyad_rrr(p1, p2, l1, l2, self.branch, phi=st.check_phi)
+        st.points[self.key] = c
+        st.links[self.links[0]] = t1
+        st.links[self.links[1]] = t2
+        mu = ops.arccos(ops.cos(t1.value - t2.value))
+        st.transmission[self.key] = mu
+        st.pressure[self.key] = ops.fabs(np.pi / 2 - mu)
+
+    def new_point(self):
+        return self.key, self.links[0]
+
+    def bodies(self):
+        return (
+            Body(self.links[0], "link", self.first, self.key, self.key),
+            Body(self.links[1], "link", self.second, self.key, self.key),
+        )
+
+    def joints(self, owner):
+        a, b = self.links
+        return (
+            ("revolute", self.first, a, owner(self.first)),
+            ("revolute", self.second, b, owner(self.second)),
+            ("revolute", self.key, b, a),
+        )
+
+
+@dataclass(frozen=True)
+class RRPGroup(Group):
+    """RRP dyad: a rod ``link`` of ``length`` from ``start`` to the slider ``key`` on ``guide``;
+    ``branch`` +1 puts the slider ahead of the foot of ``start`` along the guide direction."""
+
+    start: str = ""
+    guide: Guide = field(default_factory=Guide)
+    branch: int = 1
+    link: str = ""
+    slider: str = ""
+
+    kind = "RRP"
+
+    @property
+    def label(self):
+        return f"RRP group {self.key} (rod {self.link}, slider {self.slider})"
+
+    def requires(self):
+        out = [self.start]
+        if self.guide.through is not None:
+            out.append(self.guide.through)
+        if self.guide.frame is not None:
+            out += [self.guide.frame.origin] + ([self.guide.frame.axis] or [])
+        return tuple(x for x in out if x)
+
+    def conditions(self):
+        return (self.key,)
+
+    def solve(self, st):
+        v = st.v
+        p = st.points[self.start]
+        length = self.p(v, "length")
+        g, theta, fixed = _guide_line(st, self.guide, self)
+        c, s = ops.cos(theta.value), ops.sin(theta.value)
+        hgt = (p.x - g.x) * -s + (p.y - g.y) * c  # height of the rod's start over the guide
+        margin = (length * length - hgt * hgt) / (length * length)  # cos^2 of rod-to-guide
+        st.margins[self.key] = margin
+        p = st.relax(p, margin)
+        if fixed is not None:
+            b, slide, rod = dyad_rrp(p, length, *fixed, self.branch, st.check_phi)
+        else:
+            b, slide, rod = dyad_rrp_on(p, length, g, theta, self.branch, st.check_phi)
+        zero = 0.0 * b.x
+        st.points[self.key] = b
+        st.links[self.link] = rod
+        st.links[self.slider] = Jet(theta.value + zero, theta.d1 + zero, theta.d2 + zero)
+        st.sliders[self.slider] = slide
+        pressure = ops.arcsin(ops.fabs(hgt) / length)
+        st.pressure[self.key] = pressure
+        st.transmission[self.key] = np.pi / 2 - pressure
+
+    def new_point(self):
+        return self.key, self.slider
+
+    def bodies(self):
+        return (
+            Body(self.slider, "slider", self.key, None, self.key),
+            Body(self.link, "link", self.start, self.key, self.key),
+        )
+
+    def joints(self, owner):
+        return (
+            ("revolute", self.start, self.link, owner(self.start)),
+            ("revolute", self.key, self.slider, self.link),
+            ("prismatic", self.key, self.slider, self.guide.carrier, self.slider),
+        )
+
+
+@dataclass(frozen=True)
+class RPRGroup(Group):
+    """RPR dyad: the link ``key`` turns about the point ``about``; a block pinned at the point
+    ``through`` slides on it, the slot lying ``offset`` to the left of the link's axis through
+    ``about``. ``branch`` +1 takes the block on the link's positive axis."""
+
+    about: str = ""
+    through: str = ""
+    branch: int = 1
+    block: str = ""
+
+    kind = "RPR"
+
+    @property
+    def label(self):
+        return f"RPR group {self.key} (link about {self.about} through block {self.block})"
+
+    def requires(self):
+        return (self.about, self.through)
+
+    def conditions(self):
+        return (self.key,)
+
+    def solve(self, st):
+        v = st.v
+        p, q = st.points[self.through], st.points[self.about]
+        off = self.p(v, "offset")
+        rx, ry = p.x - q.x, p.y - q.y
+        rho2 = rx * rx + ry * ry
+        margin = (rho2 - off * off) / (rho2 + 1e-300)  # cos^2 of the pressure angle
+        st.margins[self.key] = margin
+        p = st.relax(p, margin)
+        th, s = dyad_rpr_on(p, q, off, self.branch, st.check_phi)
+        st.links[self.key] = th
+        st.links[self.block] = th
+        st.sliders[self.block] = s
+        pressure = ops.arctan2(ops.fabs(off) + 0.0 * s.value, ops.fabs(s.value))
+        st.pressure[self.key] = pressure
+        st.transmission[self.key] = np.pi / 2 - pressure
+
+    def bodies(self):
+        return (
+            Body(self.key, "link", self.about, None, self.key),
+            Body(self.block, "block", self.through, None, self.key),
+        )
+
+    def joints(self, owner):
+        return (
+            ("revolute", self.about, self.key, owner(self.about)),
+            ("revolute", self.through, self.block, owner(self.through)),
+            ("prismatic", self.through, self.block, self.key, self.key),
+        )
+
+
+@dataclass(frozen=True)
+class AttachGroup(Group):
+    """A point fixed on a body: ``along`` (m) along the frame's x axis from its origin and
+    ``left`` (m) to its left."""
+
+    frame: Frame = field(default_factory=lambda: Frame("", ""))
+
+    kind = "point"
+
+    @property
+    def label(self):
+        return f"point {self.key} on {self.frame.body}"
+
+    def requires(self):
+        return tuple(x for x in (self.frame.origin, self.frame.axis) if x)
+
+    def solve(self, st):
+        v = st.v
+        origin, angle = st.frame(self.frame)
+        st.points[self.key] = coupler_point(origin, angle, self.p(v, "along"), self.p(v, "left"))
+
+    def new_point(self):
+        return self.key, self.frame.body
+
+    def bodies(self):
+        return ()
+
+    def joints(self, owner):
+        return ()
+
+
+# ------------------------------------------------------------------------------ higher pair
+@dataclass(frozen=True)
+class FollowerGroup(Group):
+    """Higher pair: a follower ``key`` on a slider on a fixed ``guide``, in contact with the
+    ``profile`` curve carried by the body of ``frame``; a roller (parameter ``roller``, its
+    radius; 0 for a point) or a flat face (parameter ``face``, its normal's angle from the
+    guide direction)."""
+
+    frame: Frame = field(default_factory=lambda: Frame("", ""))
+    profile: Any = None
+    guide: Guide = field(default_factory=Guide)
+    flat: bool = False
+    branch: int = 1
+    side: int = 1
+    slider: str = ""
+    samples: int = 24
+    iterations: int = 8
+
+    kind = "higher pair"
+
+    @property
+    def label(self):
+        what = "flat-faced" if self.flat else "roller"
+        return f"higher pair {self.key} ({what} follower on the profile of {self.frame.body})"
+
+    @property
+    def contact_point(self) -> str:
+        return f"{self.key}_contact"
+
+    @property
+    def normal_key(self) -> str:
+        return f"{self.key} normal"
+
+    def requires(self):
+        out = [self.frame.origin, self.frame.axis, self.guide.through]
+        return tuple(x for x in out if x)
+
+    def conditions(self):
+        if self.profile.closed:
+            return (f"{self.key}:contact",) if not self.flat else ()
+        base = (f"{self.key}:start", f"{self.key}:end")
+        return base if self.flat else base + (f"{self.key}:contact",)
+
+    def profile_values(self, v):
+        return {role: self.p(v, f"profile_{role}") for role in self.profile.roles}
+
+    def solve(self, st):
+        v = st.v
+        origin, angle = st.frame(self.frame)
+        _, _, fixed = _guide_line(st, self.guide, self)
+        gx, gy, ga = fixed
+        res = cam_contact(
+            origin,
+            angle,
+            self.profile,
+            self.profile_values(v),
+            gx,
+            gy,
+            ga,
+            radius=0.0 if self.flat else self.p(v, "roller"),
+            face=self.p(v, "face") if self.flat else None,
+            branch=self.branch,
+            side=self.side,
+            phi=st.check_phi,
+            samples=self.samples,
+            iterations=self.iterations,
+        )
+        zero = 0.0 * res.s.value
+        st.points[self.key] = res.follower
+        st.points[self.contact_point] = res.point
+        st.links[self.slider] = Jet(ga + zero, zero, zero)
+        st.sliders[self.slider] = res.s
+        st.pressure[self.key] = res.pressure
+        st.transmission[self.key] = np.pi / 2 - res.pressure
+        st.extra[self.normal_key] = res.normal
+        st.extra[f"{self.key} sigma"] = res.sigma
+        lost = -1.0 + zero
+
+        def guard(m):
+            return ops.where(res.found, m, lost)
+
+        lo, hi = self.profile.domain
+        if not self.profile.closed:
+            st.margins[f"{self.key}:start"] = guard((res.sigma - lo) / (hi - lo))
+            st.margins[f"{self.key}:end"] = guard((hi - res.sigma) / (hi - lo))
+        if not self.flat:
+            # cos^2 of the pressure angle: 0 where the guide grazes the roller's path
+            cn = ops.cos(res.normal - ga)
+            st.margins[f"{self.key}:contact"] = guard(cn * cn)
+
+    def new_point(self):
+        return self.key, self.slider
+
+    def bodies(self):
+        return (Body(self.slider, "follower", self.key, None, self.key),)
+
+    def joints(self, owner):
+        return (
+            ("prismatic", self.key, self.slider, FRAME, self.slider),
+            ("contact", self.contact_point, self.slider, self.frame.body, None, self.normal_key),
+        )
