@@ -136,6 +136,12 @@ CHARTS: dict[str, tuple[str, str, str]] = {
         "Offset slider-crank at a fixed stroke: peak slider acceleration, max pressure angle "
         "and time ratio over (rod/crank, offset/crank)",
     ),
+    "linkage": (
+        "mechsynth.synthesis.linkage_file",
+        "chart_linkage",
+        "Any linkage of a TOML file over two of its dimensions: --set file=PATH (its [chart] "
+        "table: axes, measures, limits)",
+    ),
     "slider-crank-pareto": (
         "mechsynth.synthesis.pareto",
         "chart_pareto_slider_crank",

@@ -856,35 +856,36 @@ class Linkage:
 
     # ------------------------------------------------------------------ feasibility
     def feasibility_constraints(self, params, margin=1e-3):
-        """Conditions ``g >= 0`` for the optimizers' start points, differential evolution and
-        chart sweeps: positive lengths, and every group assembled at 360 crank angles (the
-        minimum of its assembly margin; ``margin`` is not applied here). Numeric only: with
-        CasADi symbols this is empty, the per-angle margins being constraints of the problem
-        on its certified crank-angle grid (:class:`~mechsynth.synthesis.Problem` adds
-        ``assembly_margin(...) >= margin``).
+        """Conditions ``g >= 0`` on the parameters alone, for the optimizers and chart sweeps:
+        every length positive. (Assembly is a per-angle condition, not one of the parameters
+        alone: a :class:`~mechsynth.synthesis.Problem` bounds every group's
+        ``assembly_margin`` on its certified crank-angle grid, and a design that cannot be
+        assembled at an angle raises :class:`MechanismError` there, which sweeps and solvers
+        treat as infeasible.) ``params`` may hold numbers, arrays of designs or CasADi
+        symbols; ``margin`` is relative to each length's value in this linkage."""
+        rows = []
+        for k, kind in self._kinds.items():
+            if kind == "length" and k in params:
+                ref = self._values[k]
+                scale = abs(float(ref)) if isinstance(ref, numbers.Real) and ref else 1.0
+                rows.append((f"{k} > 0 (a length)", params[k] / scale - margin))
+        return rows
 
-        ``params`` holds a value per design (numbers or 1-D arrays of designs).
-        """
-        if ops.is_symbolic(*params.values()):
-            return []
+    def assembles(self, n: int = 360):
+        """Per design, the smallest assembly margin of every condition at ``n`` crank angles
+        (``{condition: value}``, negative where it fails; -1 where an earlier group failed
+        first). A quick screen of batches of designs; :meth:`assembly_margins` has them per
+        angle."""
         from ..units import cycle
 
-        cols = {}
-        for k, val in params.items():
-            a = np.asarray(val, dtype=float)
-            cols[k] = a[..., None] if a.ndim and a.shape[-1] != 1 else a
-        lengths = [k for k in cols if self._kinds.get(k) == "length"]
-        rows = [(f"{k} > 0 (a length)", _flat(cols[k])) for k in lengths]
-        ok = np.logical_and.reduce([cols[k] > 0 for k in lengths]) if lengths else True
-        safe = {k: (np.where(ok, v, 1.0) if k in lengths else v) for k, v in cols.items()}
-        margins = self.with_parameters(**safe).assembly_margins(cycle(_SCREEN_ANGLES))
+        out = {}
+        margins = self.assembly_margins(cycle(int(n)))
         for c in self.assembly_conditions:
             m = np.asarray(margins[c], dtype=float)
-            bad = np.isnan(m).all(axis=-1)
-            worst = np.where(bad, -1.0, np.min(np.where(np.isnan(m), np.inf, m), axis=-1))
-            worst = np.where(_flat(ok), worst, -1.0)
-            rows.append((f"{c} assembles over the cycle", worst if worst.ndim else float(worst)))
-        return rows
+            worst = np.min(np.where(np.isnan(m), np.inf, m), axis=-1)
+            out[c] = np.where(np.isnan(m).all(axis=-1), -1.0, worst)
+        shaped = np.broadcast_arrays(*out.values()) if out else []
+        return {c: (_flat(w) if w.ndim else float(w)) for c, w in zip(out, shaped)}
 
     # ------------------------------------------------------------------ cycle properties
     def _output_quantity(self, st: _State, of: str):

@@ -164,13 +164,30 @@ class _State:
             return origin, self.links[f.body]
         return origin, link_angle(origin, self.points[f.axis])
 
-    def relax(self, jet: PointJet, margin) -> PointJet:
-        """In a relaxed solve, NaN where the group cannot close (so its block does not raise
-        and what depends on it is NaN); the jet unchanged otherwise."""
-        if self.strict or ops.is_symbolic(margin):
+    def relax(self, jet: PointJet, margin, moved=None) -> PointJet:
+        """The input point of a group that may not close.
+
+        * numeric, strict solve: unchanged (the block raises where the group cannot close);
+        * numeric, relaxed solve: NaN where it cannot close (its block does not raise and what
+          depends on it is NaN; :meth:`Linkage.assembly_margins` reports the failure);
+        * symbolic (an optimizer): the position ``moved = (x, y)``, which equals the point's
+          where the group closes and is pulled to just inside the closing range where it does
+          not, so that the expressions stay finite and the optimizer, seeing the group's
+          negative assembly margin, steers back (a NaN would stop it).
+        """
+        if ops.is_symbolic(margin):
+            if moved is None:
+                return jet
+            return PointJet(moved[0], moved[1], jet.dx, jet.dy, jet.ddx, jet.ddy)
+        if self.strict:
             return jet
         ok = np.asarray(margin) >= 0.0
         return PointJet(*(np.where(ok, c, np.nan) for c in jet))
+
+
+# relative distance to a closing limit at which an optimizer's symbolic model holds a group that
+# does not close (see _State.relax)
+_HOLD = 1e-9
 
 
 @dataclass(frozen=True)
@@ -297,7 +314,13 @@ class RRRGroup(Group):
         # sin^2 of the angle between the links: ((l1+l2)^2 - d^2)(d^2 - (l1-l2)^2) / (4 l1^2 l2^2)
         margin = ((l1 + l2) ** 2 - d2) * (d2 - (l1 - l2) ** 2) / (4.0 * l1 * l1 * l2 * l2)
         st.margins[self.key] = margin
-        p1 = st.relax(p1, margin)
+        moved = None
+        if ops.is_symbolic(margin):
+            d = ops.sqrt(d2)
+            lo, hi = ops.fabs(l1 - l2) + _HOLD * (l1 + l2), (l1 + l2) * (1.0 - _HOLD)
+            k = ops.fmin(ops.fmax(d, lo), hi) / d
+            moved = (p2.x - k * dx, p2.y - k * dy)
+        p1 = st.relax(p1, margin, moved)
         c, t1, t2 = dyad_rrr(p1, p2, l1, l2, self.branch, phi=st.check_phi)
         st.points[self.key] = c
         st.links[self.links[0]] = t1
@@ -361,7 +384,12 @@ class RRPGroup(Group):
         hgt = (p.x - g.x) * -s + (p.y - g.y) * c  # height of the rod's start over the guide
         margin = (length * length - hgt * hgt) / (length * length)  # cos^2 of rod-to-guide
         st.margins[self.key] = margin
-        p = st.relax(p, margin)
+        moved = None
+        if ops.is_symbolic(margin):
+            lim = length * (1.0 - _HOLD)
+            shift = ops.fmin(ops.fmax(hgt, -lim), lim) - hgt
+            moved = (p.x - shift * s, p.y + shift * c)
+        p = st.relax(p, margin, moved)
         if fixed is not None:
             b, slide, rod = dyad_rrp(p, length, *fixed, self.branch, st.check_phi)
         else:
@@ -423,7 +451,12 @@ class RPRGroup(Group):
         rho2 = rx * rx + ry * ry
         margin = (rho2 - off * off) / (rho2 + 1e-300)  # cos^2 of the pressure angle
         st.margins[self.key] = margin
-        p = st.relax(p, margin)
+        moved = None
+        if ops.is_symbolic(margin):
+            rho = ops.sqrt(rho2 + 1e-300)
+            k = ops.fmax(rho, ops.fabs(off) * (1.0 + _HOLD) + 1e-300) / rho
+            moved = (q.x + k * rx, q.y + k * ry)
+        p = st.relax(p, margin, moved)
         th, s = dyad_rpr_on(p, q, off, self.branch, st.check_phi)
         st.links[self.key] = th
         st.links[self.block] = th

@@ -14,3 +14,8 @@ __all__ += ["minimax_cycle"]
 from .pareto import ParetoFront, pareto_front  # noqa: E402
 
 __all__ += ["ParetoFront", "pareto_front"]
+
+from . import linkage_file  # noqa: E402,F401  (registers mechanism = "linkage" for problem files)
+from .linkage_file import load_linkage  # noqa: E402
+
+__all__ += ["load_linkage"]

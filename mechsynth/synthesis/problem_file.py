@@ -98,7 +98,9 @@ UNITS: dict[str, float] = {
 
 
 def register_mechanism(name: str, cls) -> None:
-    """Make ``cls`` available as ``mechanism = "name"`` in problem files."""
+    """Make ``cls`` available as ``mechanism = "name"`` in problem files. An object with
+    ``from_problem_data(data, path)`` instead builds the mechanism from the file's own tables
+    (named in its ``file_keys``), as ``"linkage"`` does."""
     MECHANISMS[name] = cls
 
 
@@ -233,13 +235,15 @@ def load_problem(source) -> ProblemSpec:
             except tomllib.TOMLDecodeError as exc:
                 raise ValueError(f"{path}: not valid TOML ({exc})") from exc
     where = f"{path}: " if path else ""
-    unknown = set(data) - _TOP_KEYS
+    name = data.get("mechanism")
+    # a mechanism read from the file's own tables (a linkage) declares them
+    kind = MECHANISMS.get(name) if isinstance(name, str) else None
+    unknown = set(data) - _TOP_KEYS - set(getattr(kind, "file_keys", ()))
     if unknown:
         raise ValueError(
             f"{where}unknown keys {sorted(unknown)} (a key written after a [table] header "
             "belongs to that table: put top-level keys first)"
         )
-    name = data.get("mechanism")
     if name not in MECHANISMS:
         raise ValueError(
             f"{where}mechanism must be one of {', '.join(sorted(MECHANISMS))}, got {name!r}"
@@ -255,9 +259,10 @@ def load_problem(source) -> ProblemSpec:
         fixed[k] = v if text else parse_quantity(v, f"fixed {k!r}")
     speed = data.get("speed")
     speed = None if speed is None else parse_quantity(speed, "speed")
-    prob = Problem(
-        MECHANISMS[name], variables, fixed, speed=speed, angles=int(data.get("angles", 64))
-    )
+    mechanism = MECHANISMS[name]
+    if hasattr(mechanism, "from_problem_data"):
+        mechanism = mechanism.from_problem_data(data, path)
+    prob = Problem(mechanism, variables, fixed, speed=speed, angles=int(data.get("angles", 64)))
     if ("minimize" in data) == ("maximize" in data):
         raise ValueError(f"{where}give exactly one of minimize = '...' or maximize = '...'")
     if "minimize" in data:

@@ -25,6 +25,11 @@ import numpy as np
 
 __all__ = ["STATUSES", "ConstraintValue", "Certification", "Result"]
 
+
+def _name(design) -> str:
+    """A design's name: a linkage's own name, else its class name."""
+    return getattr(design, "__name__", type(design).__name__)
+
 STATUSES = ("optimal", "infeasible", "max_iterations", "uncertified", "solver_failed")
 
 
@@ -177,7 +182,7 @@ class Result:
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict (``mechsynth.jsonutil.dumps``)."""
         return dict(
-            mechanism=type(self.design).__name__ if self.design is not None else None,
+            mechanism=_name(self.design) if self.design is not None else None,
             variables=self.variables,
             design=self.design.params() if self.design is not None else None,
             value=self.value,
@@ -289,6 +294,6 @@ class Result:
         axes[-1].set_xlabel("crank angle, deg")
         for ax in axes:
             ax.grid(True, alpha=0.4)
-        title = f"{type(self.design).__name__}: {self.sense} {self.objective} = {self.value:.6g}"
+        title = f"{_name(self.design)}: {self.sense} {self.objective} = {self.value:.6g}"
         axes[0].set_title(f"{title}\n(dashed: certified peak angles; status {self.status})")
         return fig

@@ -337,6 +337,9 @@ class _Certifier:
         if len(self.extra) > self.tr.n_extra:
             n = int(2 ** np.ceil(np.log2(len(self.extra))))
             self.tr = self.problem._transcription(n)
+            # the new transcription binds its own measure objects: the true peaks found from
+            # now on must be keyed by them, or the final values miss them (dense-grid values)
+            self.atoms = _peak_atoms(self.tr)
             return True
         return False
 
