@@ -44,16 +44,22 @@ _ASSEMBLY_RTOL = 1e-12
 
 
 def _with_angles(exc, phi, bad, value=None, limit=8):
-    """Attach to ``exc`` the crank angles (rad) where ``bad`` holds, as ``exc.angles`` (at most
-    ``limit``, the most negative ``value`` first): a solver that meets the failure between its
-    grid angles adds these angles to its grid."""
+    """Attach to ``exc`` where it failed: ``exc.angles``, the crank angles (rad) where ``bad``
+    holds -- the first one (the message's) first, then the most negative ``value`` first, at
+    most ``limit`` -- and ``exc.design``, the failing design's index in a batch (or None). A
+    solver that meets the failure between its grid angles adds these angles to its grid."""
+    exc.angles, exc.design = (), None
     if phi is None or ops.is_symbolic(phi):
-        exc.angles = ()
         return exc
-    ph = np.broadcast_to(np.asarray(phi, dtype=float), bad.shape)[bad]
+    idx = np.unravel_index(int(np.argmax(bad)), bad.shape)
+    lead = bad.ndim - np.ndim(phi)
+    if lead > 0 and bad.size > np.size(phi):
+        exc.design = tuple(int(i) for i in idx[:lead])
+    phb = np.broadcast_to(np.asarray(phi, dtype=float), bad.shape)
+    ph = phb[bad]
     if value is not None:
-        order = np.argsort(np.broadcast_to(value, bad.shape)[bad], kind="stable")
-        ph = ph[order]
+        ph = ph[np.argsort(np.broadcast_to(value, bad.shape)[bad], kind="stable")]
+    ph = np.concatenate([[phb[idx]], ph])
     _, first = np.unique(np.round(ph, 12), return_index=True)
     exc.angles = tuple(float(a) for a in ph[np.sort(first)][:limit])
     return exc

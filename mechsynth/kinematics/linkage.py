@@ -765,11 +765,46 @@ class Linkage:
                 try:
                     g.solve(st)
                 except MechanismError as exc:
-                    err = MechanismError(f"{g.label}: {exc}")
-                    err.angles = getattr(exc, "angles", ())
+                    angles = getattr(exc, "angles", ())
+                    detail = self._failure_detail(g, exc, st)
+                    err = MechanismError(f"{g.label}: {exc}{detail}")
+                    err.angles = angles
                     err.group = g.key
                     raise err from None
         return st
+
+    def _failure_detail(self, g: Group, exc, st) -> str:
+        """The failing group's distances at the angle (and design) its error names."""
+        where = getattr(exc, "angles", ())
+        if not where or ops.is_symbolic(st.phi) or np.ndim(st.phi) != 1:
+            return ""
+        k = int(np.argmin(np.abs(np.asarray(st.phi, dtype=float) - where[0])))
+        design = getattr(exc, "design", None) or ()
+
+        def at(x):
+            a = np.asarray(x, dtype=float)
+            if a.ndim > 1:
+                a = a[design] if design else a.reshape(-1, a.shape[-1])[0]
+            return float(a[k] if a.ndim and a.size > 1 else a.reshape(-1)[0])
+
+        v = st.v
+        if isinstance(g, RRRGroup | RPRGroup):
+            a, b = (g.first, g.second) if isinstance(g, RRRGroup) else (g.about, g.through)
+            p, q = st.points[a], st.points[b]
+            d = np.hypot(at(q.x) - at(p.x), at(q.y) - at(p.y))
+            if isinstance(g, RPRGroup):
+                off = abs(at(g.p(v, "offset")))
+                return f"; there |{a}{b}| = {d:.6g} m, the slot offset {off:.6g} m"
+            l1, l2 = at(g.p(v, "l1")), at(g.p(v, "l2"))
+            return (
+                f"; there |{a}{b}| = {d:.6g} m, the links {l1:.6g} and {l2:.6g} m reach "
+                f"[{abs(l1 - l2):.6g}, {l1 + l2:.6g}] m"
+            )
+        if isinstance(g, RRPGroup) and g.key in st.margins:
+            length = at(g.p(v, "length"))
+            h = length * np.sqrt(max(0.0, 1.0 - at(st.margins[g.key])))
+            return f"; there {g.start} is {h:.6g} m from the guide, the rod {length:.6g} m"
+        return ""
 
     def jets(self, phi):
         """``(points, links, sliders)``: dicts of the jets (position and crank-angle analogs)."""
