@@ -190,6 +190,54 @@ class _State:
 _HOLD = 1e-9
 
 
+# The groups' per-angle formulas beside the blocks (margins, angles), written with ops on scalars
+# or arrays so that a compiled chain could call them as it calls the blocks.
+def rrr_margin(p1, p2, l1, l2):
+    """sin^2 of the angle between an RRR dyad's links, from the distance of its pivots:
+    ``((l1+l2)^2 - d^2)(d^2 - (l1-l2)^2) / (4 l1^2 l2^2)``; negative where it cannot close."""
+    dx, dy = p2.x - p1.x, p2.y - p1.y
+    d2 = dx * dx + dy * dy
+    return ((l1 + l2) ** 2 - d2) * (d2 - (l1 - l2) ** 2) / (4.0 * l1 * l1 * l2 * l2)
+
+
+def rrr_angles(t1: Jet, t2: Jet):
+    """Transmission angle (between the links, in [0, pi]) and pressure angle ``|pi/2 - mu|``."""
+    mu = ops.arccos(ops.cos(t1.value - t2.value))
+    return mu, ops.fabs(np.pi / 2 - mu)
+
+
+def fixed_guide(px, py, offset, angle):
+    """The point of a fixed guide through (px, py) at ``offset`` to the left of its direction."""
+    return px - offset * ops.sin(angle), py + offset * ops.cos(angle)
+
+
+def guide_height(p: PointJet, gx, gy, angle):
+    """Signed height of ``p`` over the guide through (gx, gy) at ``angle``."""
+    return (p.x - gx) * -ops.sin(angle) + (p.y - gy) * ops.cos(angle)
+
+
+def rrp_margin(hgt, length):
+    """cos^2 of an RRP rod's angle to its guide: ``1 - (h / l)^2``."""
+    return (length * length - hgt * hgt) / (length * length)
+
+
+def rrp_pressure(hgt, length):
+    """Angle between an RRP rod and its guide (rad, in [0, pi/2])."""
+    return ops.arcsin(ops.fabs(hgt) / length)
+
+
+def rpr_margin(p: PointJet, q: PointJet, offset):
+    """cos^2 of an RPR group's pressure angle: ``(rho^2 - offset^2) / rho^2``."""
+    rx, ry = p.x - q.x, p.y - q.y
+    rho2 = rx * rx + ry * ry
+    return (rho2 - offset * offset) / (rho2 + 1e-300)
+
+
+def rpr_pressure(offset, s):
+    """Pressure angle of an RPR group: ``atan(|offset| / |s|)``."""
+    return ops.arctan2(ops.fabs(offset) + 0.0 * s, ops.fabs(s))
+
+
 @dataclass(frozen=True)
 class Group:
     """Base of the groups: ``key`` names the group (its new point, or an RPR group's link);
@@ -244,8 +292,7 @@ def _guide_line(st: _State, guide: Guide, group: Group):
         gx, gy = group.p(v, "x"), group.p(v, "y")
     else:
         p = st.points[guide.through]
-        off = group.p(v, "offset")
-        gx, gy = p.x - off * ops.sin(a), p.y + off * ops.cos(a)
+        gx, gy = fixed_guide(p.x, p.y, group.p(v, "offset"), a)
     return PointJet(gx, gy, 0.0, 0.0, 0.0, 0.0), Jet(a, 0.0, 0.0), (gx, gy, a)
 
 
@@ -309,14 +356,12 @@ class RRRGroup(Group):
         v = st.v
         p1, p2 = st.points[self.first], st.points[self.second]
         l1, l2 = self.p(v, "l1"), self.p(v, "l2")
-        dx, dy = p2.x - p1.x, p2.y - p1.y
-        d2 = dx * dx + dy * dy
-        # sin^2 of the angle between the links: ((l1+l2)^2 - d^2)(d^2 - (l1-l2)^2) / (4 l1^2 l2^2)
-        margin = ((l1 + l2) ** 2 - d2) * (d2 - (l1 - l2) ** 2) / (4.0 * l1 * l1 * l2 * l2)
+        margin = rrr_margin(p1, p2, l1, l2)
         st.margins[self.key] = margin
         moved = None
         if ops.is_symbolic(margin):
-            d = ops.sqrt(d2)
+            dx, dy = p2.x - p1.x, p2.y - p1.y
+            d = ops.sqrt(dx * dx + dy * dy)
             lo, hi = ops.fabs(l1 - l2) + _HOLD * (l1 + l2), (l1 + l2) * (1.0 - _HOLD)
             k = ops.fmin(ops.fmax(d, lo), hi) / d
             moved = (p2.x - k * dx, p2.y - k * dy)
@@ -325,9 +370,7 @@ class RRRGroup(Group):
         st.points[self.key] = c
         st.links[self.links[0]] = t1
         st.links[self.links[1]] = t2
-        mu = ops.arccos(ops.cos(t1.value - t2.value))
-        st.transmission[self.key] = mu
-        st.pressure[self.key] = ops.fabs(np.pi / 2 - mu)
+        st.transmission[self.key], st.pressure[self.key] = rrr_angles(t1, t2)
 
     def new_point(self):
         return self.key, self.links[0]
@@ -380,15 +423,14 @@ class RRPGroup(Group):
         p = st.points[self.start]
         length = self.p(v, "length")
         g, theta, fixed = _guide_line(st, self.guide, self)
-        c, s = ops.cos(theta.value), ops.sin(theta.value)
-        hgt = (p.x - g.x) * -s + (p.y - g.y) * c  # height of the rod's start over the guide
-        margin = (length * length - hgt * hgt) / (length * length)  # cos^2 of rod-to-guide
+        hgt = guide_height(p, g.x, g.y, theta.value)  # of the rod's start over the guide
+        margin = rrp_margin(hgt, length)
         st.margins[self.key] = margin
         moved = None
         if ops.is_symbolic(margin):
             lim = length * (1.0 - _HOLD)
             shift = ops.fmin(ops.fmax(hgt, -lim), lim) - hgt
-            moved = (p.x - shift * s, p.y + shift * c)
+            moved = (p.x - shift * ops.sin(theta.value), p.y + shift * ops.cos(theta.value))
         p = st.relax(p, margin, moved)
         if fixed is not None:
             b, slide, rod = dyad_rrp(p, length, *fixed, self.branch, st.check_phi)
@@ -399,7 +441,7 @@ class RRPGroup(Group):
         st.links[self.link] = rod
         st.links[self.slider] = Jet(theta.value + zero, theta.d1 + zero, theta.d2 + zero)
         st.sliders[self.slider] = slide
-        pressure = ops.arcsin(ops.fabs(hgt) / length)
+        pressure = rrp_pressure(hgt, length)
         st.pressure[self.key] = pressure
         st.transmission[self.key] = np.pi / 2 - pressure
 
@@ -447,13 +489,12 @@ class RPRGroup(Group):
         v = st.v
         p, q = st.points[self.through], st.points[self.about]
         off = self.p(v, "offset")
-        rx, ry = p.x - q.x, p.y - q.y
-        rho2 = rx * rx + ry * ry
-        margin = (rho2 - off * off) / (rho2 + 1e-300)  # cos^2 of the pressure angle
+        margin = rpr_margin(p, q, off)
         st.margins[self.key] = margin
         moved = None
         if ops.is_symbolic(margin):
-            rho = ops.sqrt(rho2 + 1e-300)
+            rx, ry = p.x - q.x, p.y - q.y
+            rho = ops.sqrt(rx * rx + ry * ry + 1e-300)
             k = ops.fmax(rho, ops.fabs(off) * (1.0 + _HOLD) + 1e-300) / rho
             moved = (q.x + k * rx, q.y + k * ry)
         p = st.relax(p, margin, moved)
@@ -461,7 +502,7 @@ class RPRGroup(Group):
         st.links[self.key] = th
         st.links[self.block] = th
         st.sliders[self.block] = s
-        pressure = ops.arctan2(ops.fabs(off) + 0.0 * s.value, ops.fabs(s.value))
+        pressure = rpr_pressure(off, s.value)
         st.pressure[self.key] = pressure
         st.transmission[self.key] = np.pi / 2 - pressure
 
