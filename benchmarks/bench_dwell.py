@@ -12,8 +12,8 @@ import time
 
 import numpy as np
 
-from mechsynth.kinematics.dwell import DwellSliderCrank
-from mechsynth.objectives.dwell import dwell_windows, relative_stroke
+from mechsynth.machines.dwell.linkage import DwellSliderCrank
+from mechsynth.machines.dwell.metrics import dwell_windows, relative_stroke
 
 
 def main(n=200, n_angles=720, gamma_deg=20.0, tolerance=0.002):

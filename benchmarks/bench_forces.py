@@ -16,7 +16,7 @@ import statistics
 import time
 
 from mechsynth.dynamics.kinetostatics import kinetostatics
-from mechsynth.dynamics.nail_header import NailHeader
+from mechsynth.machines.nail_header.model import NailHeader
 from mechsynth.objectives.forces import reaction_affine_map
 from mechsynth.synthesis.convex import minimax_affine
 from mechsynth.units import cycle

@@ -9,8 +9,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from mechsynth.kinematics.dwell import DwellSliderCrank  # noqa: E402
-from mechsynth.objectives.dwell import dwell_window  # noqa: E402
+from mechsynth.machines.dwell.linkage import DwellSliderCrank  # noqa: E402
+from mechsynth.machines.dwell.metrics import dwell_window  # noqa: E402
 
 
 def main(path=Path(__file__).parent / "figures" / "dwell_construction.png"):

@@ -16,7 +16,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import mechsynth as ms  # noqa: E402
-from mechsynth.dynamics import NailHeader  # noqa: E402
+from mechsynth.machines.nail_header import NailHeader  # noqa: E402
 from mechsynth.objectives.forces import peak_reaction  # noqa: E402
 
 JOINTS = ("R10", "R21", "R32")  # crank bearing, crank pin, wrist pin

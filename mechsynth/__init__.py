@@ -11,6 +11,8 @@ angles and designs), CasADi exact derivatives for IPOPT, and cvxpy convex subpro
 from . import kinematics, objectives
 from .errors import MechanismError, SolverError
 from .kinematics import FourBar, Linkage, Motion, Param, SliderCrank
+from .machines.dwell import DwellSliderCrank
+from .machines.nail_header import NailHeader
 from .machines.pumping_unit import BeamPumpingUnit, SpatialPumpingUnit
 from .synthesis import Problem, Result
 from .units import cycle, deg, dms, inch, rpm, spm, to_deg, to_inch, to_rpm
@@ -30,6 +32,8 @@ __all__ = [
     "Param",
     "BeamPumpingUnit",
     "SpatialPumpingUnit",
+    "NailHeader",
+    "DwellSliderCrank",
     "Motion",
     "cycle",
     "deg",

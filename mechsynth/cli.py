@@ -126,7 +126,7 @@ def _read_option(key, text, default):
 #: :class:`~mechsynth.studies.StudyResult`.
 CHARTS: dict[str, tuple[str, str, str]] = {
     "dwell": (
-        "mechsynth.synthesis.dwell_charts",
+        "mechsynth.machines.dwell.charts",
         "chart_dwell",
         "Paper 003b: dwell duration, band width 2E and stroke S_max of the dwell linkage",
     ),

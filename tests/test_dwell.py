@@ -6,9 +6,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mechsynth.kinematics.dwell import DwellSliderCrank
 from mechsynth.kinematics.four_bar import FourBar
-from mechsynth.objectives.dwell import (
+from mechsynth.machines.dwell.linkage import DwellSliderCrank
+from mechsynth.machines.dwell.metrics import (
     DwellDeviation,
     DwellDuration,
     DwellStroke,

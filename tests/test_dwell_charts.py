@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from mechsynth.cli import CHARTS
-from mechsynth.kinematics.dwell import DwellSliderCrank
-from mechsynth.objectives.dwell import dwell_window, relative_stroke, window_deviation
-from mechsynth.synthesis.dwell_charts import chart_dwell, dwell_chart_data
+from mechsynth.machines.dwell.charts import chart_dwell, dwell_chart_data
+from mechsynth.machines.dwell.linkage import DwellSliderCrank
+from mechsynth.machines.dwell.metrics import dwell_window, relative_stroke, window_deviation
 
 
 def test_chart_numbers_match_direct_evaluation():

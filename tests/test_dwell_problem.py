@@ -11,8 +11,8 @@ import pytest
 
 import mechsynth as ms
 from mechsynth.errors import SolverError
-from mechsynth.kinematics import DwellSliderCrank
-from mechsynth.objectives.dwell import DwellDeviation, DwellDuration, DwellStroke
+from mechsynth.machines.dwell import DwellSliderCrank
+from mechsynth.machines.dwell.metrics import DwellDeviation, DwellDuration, DwellStroke
 from mechsynth.studies import dwell as study
 
 TOL = 0.002  # half-width E of the band, relative to the rod

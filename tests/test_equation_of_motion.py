@@ -112,8 +112,8 @@ def test_result_plot_and_bad_speed():
 
 def test_nail_header_drive_solvers_agree_and_upsetting_force():
     from mechsynth.dynamics.loads import upsetting_force
-    from mechsynth.dynamics.nail_header import NailHeader
-    from mechsynth.dynamics.nail_header_drive import nail_header_speed_fluctuation
+    from mechsynth.machines.nail_header.drive import nail_header_speed_fluctuation
+    from mechsynth.machines.nail_header.model import NailHeader
 
     # paper 003 / seeds README: the upsetting force at full contact is about 52.3 kN
     assert float(upsetting_force(0.0)) == pytest.approx(52.3e3, rel=2e-3)

@@ -4,7 +4,7 @@ by certified IPOPT (CasADi kinetostatics) equals the exact cvxpy minimax of the 
 import pytest
 
 import mechsynth as ms
-from mechsynth.dynamics import NailHeader
+from mechsynth.machines.nail_header import NailHeader
 from mechsynth.objectives.forces import peak_reaction
 from mechsynth.studies.nail_header import run
 

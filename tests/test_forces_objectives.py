@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from mechsynth.dynamics.nail_header import NailHeader
+from mechsynth.machines.nail_header.model import NailHeader
 from mechsynth.objectives.forces import (
     peak_reaction,
     peak_torque,

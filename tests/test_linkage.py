@@ -5,11 +5,12 @@ import numpy as np
 import pytest
 
 import mechsynth as ms
-from mechsynth.dynamics import LinkInertia, NailHeader, kinetostatics, slider_crank_model
+from mechsynth.dynamics import LinkInertia, kinetostatics, slider_crank_model
 from mechsynth.dynamics.kinetostatics import four_bar_model
 from mechsynth.dynamics.loads import Gravity, PointForce, TorsionSpring
 from mechsynth.errors import MechanismError
 from mechsynth.kinematics import Circle, Param
+from mechsynth.machines.nail_header import NailHeader
 
 PHI = ms.cycle(360)
 FIELDS = ("x", "y", "vx", "vy", "ax", "ay")

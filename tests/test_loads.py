@@ -5,7 +5,7 @@ import pytest
 
 from mechsynth.dynamics.inertia import LinkInertia
 from mechsynth.dynamics.loads import Gravity, TabulatedLoad, TorsionSpring, upsetting_force
-from mechsynth.dynamics.nail_header import NailHeader
+from mechsynth.machines.nail_header.model import NailHeader
 
 
 def test_upsetting_force_paper_003():

@@ -8,8 +8,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from mechsynth.dynamics.kinetostatics import applied_power, kinetic_energy_rate, kinetostatics
-from mechsynth.dynamics.nail_header import NailHeader
 from mechsynth.jsonutil import dumps
+from mechsynth.machines.nail_header.model import NailHeader
 from mechsynth.studies import run_study
 from mechsynth.studies.nail_header import PUBLISHED
 from mechsynth.units import cycle

@@ -9,8 +9,7 @@ from mechsynth.dynamics import InductionMotor
 from mechsynth.dynamics.equation_of_motion import steady_cycle
 from mechsynth.dynamics.inertia import com_track
 from mechsynth.dynamics.kinetostatics import kinetostatics
-from mechsynth.dynamics.nail_header import NailHeader
-from mechsynth.dynamics.nail_header_drive import (
+from mechsynth.machines.nail_header.drive import (
     contact_angles,
     crank_speed,
     default_motor,
@@ -22,6 +21,7 @@ from mechsynth.dynamics.nail_header_drive import (
     reduced_load_moment,
     reduced_load_moments,
 )
+from mechsynth.machines.nail_header.model import NailHeader
 
 HEADERS = [
     NailHeader(),

@@ -78,7 +78,7 @@ def test_direction_and_errors():
     with pytest.raises(ValueError, match="direction"):
         ob.peak_velocity("slider", direction=0.3).evaluate(sc)
     with pytest.raises(ValueError, match="no time ratio"):
-        ob.time_ratio().bind(ms.kinematics.DwellSliderCrank)
+        ob.time_ratio().bind(ms.DwellSliderCrank)
 
 
 def test_measures_compare_into_constraints():

@@ -23,7 +23,6 @@ from .kinetostatics import (
 from .linkage_forces import linkage_force_model
 from .loads import Gravity, PointForce, TabulatedLoad, Torque, TorsionSpring, upsetting_force
 from .motor import InductionMotor, LinearDrive
-from .nail_header import NailHeader
 from .reduced import ReducedModel, gravity_moment, point_force_moment, reduced_model
 
 __all__ = ["LinkInertia", "com_track", "kinetic_energy", "reduced_inertia"]
@@ -33,4 +32,4 @@ __all__ += ["energy_stepping", "quartic_coefficients", "size_flywheel", "steady_
 __all__ += ["ForceModel", "ForceResult", "Prismatic", "Revolute", "Contact", "four_bar_model"]
 __all__ += ["linkage_force_model"]
 __all__ += ["kinetostatics", "slider_crank_model", "Gravity", "PointForce", "TabulatedLoad"]
-__all__ += ["Torque", "TorsionSpring", "upsetting_force", "NailHeader"]
+__all__ += ["Torque", "TorsionSpring", "upsetting_force"]

@@ -14,7 +14,6 @@ from .blocks import (
 )
 from .compiled import FourBarBatch, SliderCrankBatch, four_bar_batch, slider_crank_batch
 from .curves import Circle, Curve, Involute, ParametricCurve
-from .dwell import DwellSliderCrank
 from .four_bar import FourBar, Grashof, grashof
 from .linkage import Linkage, Param, Topology
 from .mechanism import Mechanism
@@ -41,7 +40,6 @@ __all__ = [
     "link_angle",
     "Mechanism",
     "SliderCrank",
-    "DwellSliderCrank",
     "FourBar",
     "Grashof",
     "grashof",

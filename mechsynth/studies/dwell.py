@@ -30,8 +30,8 @@ from pathlib import Path
 import numba
 import numpy as np
 
-from ..kinematics.dwell import DwellSliderCrank
-from ..objectives.dwell import dwell_metrics, dwell_window
+from ..machines.dwell import DwellSliderCrank
+from ..machines.dwell.metrics import dwell_metrics, dwell_window
 from . import StudyResult
 
 R_BOUNDS = (0.05, 0.5)

@@ -16,8 +16,8 @@ import time
 import numpy as np
 
 from ..dynamics.equation_of_motion import energy_method_flywheel, size_flywheel
-from ..dynamics.nail_header import NailHeader
-from ..dynamics.nail_header_drive import MOTOR_ASSUMPTION, nail_header_speed_fluctuation
+from ..machines.nail_header import NailHeader
+from ..machines.nail_header.drive import MOTOR_ASSUMPTION, nail_header_speed_fluctuation
 from ..objectives.forces import reaction_affine_map
 from ..report import StudyResult
 from ..synthesis.convex import minimax_affine

@@ -1,8 +1,9 @@
 """Speed fluctuation of the AB4115 nail header driven by an induction motor (paper 003's machine,
 paper 001's method).
 
-The machine is :class:`~mechsynth.dynamics.nail_header.NailHeader` itself: its bodies (crank with
-the centre of mass beyond O and any counterweight, rod, punch-slider, ejector rocker) come from
+The machine is :class:`~mechsynth.machines.nail_header.model.NailHeader` itself: its bodies
+(crank with the centre of mass beyond O and any counterweight, rod, punch-slider, ejector rocker)
+come from
 ``NailHeader.force_model()`` and its loads (upsetting force while the punch advances, ejector
 spring, gravity) are reduced to the crank through the general kinetostatics' power function
 ``applied_power``. Nothing of the machine is restated here, so any ``NailHeader`` (another slider
@@ -46,14 +47,14 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from ..units import rpm, to_rpm
-from .equation_of_motion import energy_stepping, steady_cycle
-from .inertia import kinetic_energy, reduced_inertia
-from .kinetostatics import applied_power
-from .loads import TabulatedLoad
-from .motor import InductionMotor
-from .nail_header import NailHeader
-from .reduced import ReducedModel
+from ...dynamics.equation_of_motion import energy_stepping, steady_cycle
+from ...dynamics.inertia import kinetic_energy, reduced_inertia
+from ...dynamics.kinetostatics import applied_power
+from ...dynamics.loads import TabulatedLoad
+from ...dynamics.motor import InductionMotor
+from ...dynamics.reduced import ReducedModel
+from ...units import rpm, to_rpm
+from .model import NailHeader
 
 __all__ = [
     "MOTOR_ASSUMPTION",

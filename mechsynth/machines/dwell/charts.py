@@ -4,7 +4,7 @@ For each design of a grid the coupler curve of C is sampled at ``n_angles`` cran
 reduced to:
 
 * ``dwell_deg`` — alpha_Sigma, the longest crank window whose minimax straight-line fit has a
-  half-width <= the tolerance E (``mechsynth.objectives.dwell``), with its ``phi_L_deg`` and
+  half-width <= the tolerance E (``mechsynth.machines.dwell.metrics``), with its ``phi_L_deg`` and
   ``xi_deg``;
 * ``S_max`` — relative stroke of link 5 with its slot along that line;
 * ``width_2E`` — the smallest band width 2E over all windows of a fixed length ``window_deg``.
@@ -20,8 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..kinematics.dwell import DwellSliderCrank
-from ..objectives.dwell import best_window_width, dwell_metrics
+from .linkage import DwellSliderCrank
+from .metrics import best_window_width, dwell_metrics
 
 __all__ = ["DwellChart", "dwell_chart_data", "plot_dwell_chart", "write_csv"]
 
@@ -140,8 +140,8 @@ def plot_dwell_chart(chart: DwellChart, path=None):
 def chart_dwell(out, options):
     """``mechsynth chart dwell``: options gamma_deg=0,20,40 tolerance=0.002 n=40 window_deg=90
     n_angles=360 r=0.05:0.5 k=0.3:2.5."""
-    from ..report import StudyResult
-    from .charts import pop_span
+    from ...report import StudyResult
+    from ...synthesis.charts import pop_span
 
     opts = dict(options)
 

@@ -32,7 +32,7 @@ import numba
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
-from .base import Measure
+from ...objectives.base import Measure
 
 __all__ = [
     "LineFit",

@@ -20,13 +20,20 @@ from typing import ClassVar
 
 import numpy as np
 
-from ..kinematics import ops
-from ..kinematics.blocks import coupler_point, crank, dyad_rpr, dyad_rrp
-from ..kinematics.mechanism import Mechanism, check_finite, check_length, speed_pair
-from ..kinematics.tracks import Jet, LinkTrack, Motion, PointJet, PointTrack, SliderTrack
-from .inertia import LinkInertia
-from .kinetostatics import FRAME, ForceModel, ForceResult, Prismatic, Revolute, kinetostatics
-from .loads import G, Gravity, PointForce, TorsionSpring, upsetting_force
+from ...dynamics.inertia import LinkInertia
+from ...dynamics.kinetostatics import (
+    FRAME,
+    ForceModel,
+    ForceResult,
+    Prismatic,
+    Revolute,
+    kinetostatics,
+)
+from ...dynamics.loads import G, Gravity, PointForce, TorsionSpring, upsetting_force
+from ...kinematics import ops
+from ...kinematics.blocks import coupler_point, crank, dyad_rpr, dyad_rrp
+from ...kinematics.mechanism import Mechanism, check_finite, check_length, speed_pair
+from ...kinematics.tracks import Jet, LinkTrack, Motion, PointJet, PointTrack, SliderTrack
 
 __all__ = ["NailHeader"]
 

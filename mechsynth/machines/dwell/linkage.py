@@ -24,11 +24,11 @@ from typing import ClassVar
 
 import numpy as np
 
-from . import ops
-from .blocks import coupler_point
-from .mechanism import Mechanism, check_finite, check_length, fail_where, speed_pair
-from .slider_crank import SliderCrank
-from .tracks import Jet, LinkTrack, Motion, PointJet, PointTrack, SliderTrack
+from ...kinematics import ops
+from ...kinematics.blocks import coupler_point
+from ...kinematics.mechanism import Mechanism, check_finite, check_length, fail_where, speed_pair
+from ...kinematics.slider_crank import SliderCrank
+from ...kinematics.tracks import Jet, LinkTrack, Motion, PointJet, PointTrack, SliderTrack
 
 __all__ = ["DwellSliderCrank"]
 

@@ -1,0 +1,15 @@
+"""Dwell linkages on the coupler curve of a central slider-crank (paper 003, second part), in one
+place.
+
+* :mod:`.linkage` -- :class:`DwellSliderCrank`: the bent-rod slider-crank and its translating
+  slotted output link.
+* :mod:`.metrics` -- the dwell metrics: exact minimax line fits of coupler-curve sections,
+  compiled window sweeps parallel over designs (numeric only; imported on use: it compiles).
+* :mod:`.charts` -- the dwell charts of ``mechsynth chart dwell``.
+
+The synthesis study is ``mechsynth study run dwell`` (:mod:`mechsynth.studies.dwell`).
+"""
+
+from .linkage import DwellSliderCrank
+
+__all__ = ["DwellSliderCrank"]
