@@ -327,3 +327,36 @@ def test_topology_profiles_place_the_cam():
     gap = np.min(np.hypot(X - np.asarray(c.x)[:, None], Y - np.asarray(c.y)[:, None]), axis=1)
     assert np.max(gap) < 0.05 * 2 * np.pi / 400  # the contact point lies on the drawn profile
     assert [j.kind for j in topo.joints] == ["revolute", "prismatic", "contact"]
+
+
+def test_measures_bound_to_a_linkage():
+    """The existing measures on a linkage: stroke of a slider on an inclined guide is its
+    travel along the guide, swing of a rocker equals the four-bar's closed form, time ratio,
+    per-group pressure and transmission angles; unknown names fail clearly."""
+    from mechsynth import objectives as ob
+
+    lk = six_link()
+    phi = ms.cycle(4096)
+    m = lk.motion(phi, speed=ms.rpm(1500))
+    assert ob.stroke("N").evaluate(lk, phi) == pytest.approx(np.ptp(m.sliders["N"].position))
+    assert ob.stroke("N").evaluate(lk, phi) != pytest.approx(np.ptp(m.points["N"].x))
+    assert ob.max_pressure_angle("N").evaluate(lk, phi) == pytest.approx(
+        m.pressure_angles["N"].max()
+    )
+    mu = m.transmission_angles["B"]
+    assert ob.min_transmission_angle("B").evaluate(lk, phi) == pytest.approx(
+        np.min(np.minimum(mu, np.pi - mu))
+    )
+    fb = ms.FourBar(1.0, 4.3, 3.0, 5.2)
+    four = four_bar_linkage(1.0, 4.3, 3.0, 5.2)
+    assert ob.swing_angle("rocker").evaluate(four, phi) == pytest.approx(fb.swing_angle, rel=1e-6)
+    assert ob.time_ratio().bind(four).fn(four) == pytest.approx(fb.time_ratio, rel=1e-12)
+    assert ob.peak_velocity("N").evaluate(lk, phi, speed=ms.rpm(1500)) == pytest.approx(
+        np.max(m.points["N"].velocity)
+    )
+    with pytest.raises(ValueError, match="no pressure angle of group 'Q'; groups with one: B, N"):
+        ob.max_pressure_angle("Q").evaluate(lk, phi)
+    with pytest.raises(ValueError, match="no assembly condition 'Q'; conditions: B, N"):
+        ob.assembly_margin("Q").evaluate(lk, phi)
+    with pytest.raises(ValueError, match="reports no assembly margins"):
+        ob.assembly_margin("B").evaluate(fb, phi)

@@ -185,3 +185,58 @@ def test_follower_failures_are_clear():
     margins = five_link().assembly_margins(PHI)
     assert set(margins) == {"B", "N:start", "N:end", "N:contact"}
     assert np.min(margins["N:start"]) > 0 and np.min(margins["N:end"]) > 0
+
+
+def test_cam_contact_derivatives_by_casadi_equal_differences():
+    """The same contact search (sampling, bracket, Newton) in CasADi: the derivatives of the
+    follower's acceleration, pressure angle and profile margin with respect to the profile's,
+    the guide's and the rocker's dimensions equal central differences of the numpy model."""
+    import casadi as ca
+
+    lk = five_link()(N_guide_offset=0.021)  # off the base circle's tangent: pressure angle > 0
+    names = ["N_profile_base_radius", "N_profile_phase", "N_guide_angle", "N_roller", "DB"]
+    x = ca.SX.sym("x", len(names))
+    phi = np.linspace(0.1, 6.0, 7)
+    m = lk(**{n: x[i] for i, n in enumerate(names)}).motion(ca.DM(phi), speed=100.0)
+    out = ca.vertcat(
+        m.sliders["N"].acceleration, m.pressure_angles["N"], m.extra["assembly margins"]["N:start"]
+    )
+    x0 = np.array([lk.parameters[n] for n in names])
+    J = np.asarray(ca.Function("j", [x], [ca.jacobian(out, x)])(x0))
+
+    def f(v):
+        mm = lk(**dict(zip(names, v))).motion(phi, speed=100.0)
+        return np.concatenate(
+            [
+                mm.sliders["N"].acceleration,
+                mm.pressure_angles["N"],
+                mm.extra["assembly margins"]["N:start"],
+            ]
+        )
+
+    assert np.min(f(x0)[7:14]) > 1e-3
+    for i in range(len(names)):
+        e = np.zeros(len(names))
+        e[i] = 1e-7
+        fd = (f(x0 + e) - f(x0 - e)) / 2e-7
+        np.testing.assert_allclose(J[:, i], fd, rtol=1e-5, atol=1e-6 * np.max(np.abs(fd)) + 1e-9)
+
+
+def test_certified_cam_design():
+    """An eccentric circular cam with a roller: the smallest peak pressure angle for a 30 mm
+    stroke, optimized over the eccentricity (the circle's centre on the crank) and the cam
+    radius, certified: the stroke of a cam turning about a point of its follower's line is twice
+    its eccentricity, and the pressure angle's peak is asin(e / (R + roller)) (closed form)."""
+    from mechsynth import objectives as ob
+
+    cam = eccentric_cam(0.01, 0.05, 0.0, roller=0.01)
+    prob = ms.Problem(
+        cam, variables={"N_profile_center_u": (0.005, 0.03), "N_profile_radius": (0.03, 0.08)}
+    )
+    prob.minimize(ob.max_pressure_angle("N")).subject_to(ob.stroke("N") == 0.03)
+    res = prob.solve(starts=1)
+    assert res.status == "optimal"
+    e = res.variables["N_profile_center_u"]
+    assert e == pytest.approx(0.015, rel=1e-6)  # stroke 2 e with the guide through the pivot
+    R = res.variables["N_profile_radius"] + 0.01
+    assert res.value == pytest.approx(np.arcsin(e / R), rel=1e-6)
