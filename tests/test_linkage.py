@@ -264,6 +264,10 @@ def test_builder_errors_name_what_is_wrong():
         b.rrp("N", ("B", 0.1), guide=0.3)
     with pytest.raises(TypeError, match="profile must be a curve"):
         b.follower("N", on="DB", profile="circle", guide=((0, 0), 0.0))
+    with pytest.raises(ValueError, match="give roller .* or face .*, not both"):
+        b.follower("N", on="DB", profile=Circle(0.05), guide=((0, 0), 0.0), roller=0.01, face=0.0)
+    with pytest.raises(ValueError, match="phi must be crank angles in rad, got 'a'"):
+        b.motion("a")
 
 
 def test_guide_through_a_ground_point_with_offset_and_a_carried_guide():

@@ -22,7 +22,7 @@ def eccentric_cam(e, R, delta, roller=None, face=None, phase=0.0):
         on="OA",
         profile=Circle(R, center=(e, 0.0)),
         guide=((delta, 0.0), np.pi / 2),
-        roller=0.0 if roller is None else roller,
+        roller=roller,
         face=face,
     )
 

@@ -74,7 +74,7 @@ def eccentric_cam(face=None):
             on="OA",
             profile=Circle(0.05, (0.01, 0.0)),
             guide=((0.015, 0.0), np.pi / 2),
-            roller=0.0 if face is not None else 0.01,
+            roller=None if face is not None else 0.01,
             face=face,
         )
     )

@@ -543,7 +543,7 @@ class Linkage:
         profile: Curve,
         guide,
         offset=None,
-        roller=0.0,
+        roller=None,
         face=None,
         branch: int = 1,
         side: int = 1,
@@ -557,7 +557,7 @@ class Linkage:
         ----------
         guide, offset : the follower's fixed guide, as in :meth:`rrp` (``(x, y)`` or a ground
             point, and the angle).
-        roller : roller radius (m; 0 for a point follower), or
+        roller : roller radius (m; 0, the default, for a point follower), or
         face : for a flat-faced follower, the angle (rad) of the face's normal from the guide
             direction (0: the face is perpendicular to the guide).
         branch : +1: the follower rests on the profile's outermost contact ahead along the
@@ -578,6 +578,9 @@ class Linkage:
                 f"{what}: profile must be a curve (Circle, Involute, ParametricCurve), got "
                 f"{profile!r}"
             )
+        if roller is not None and face is not None:
+            raise ValueError(f"{what}: give roller (a radius) or face (an angle), not both")
+        roller = 0.0 if roller is None else roller
         new = self._copy()
         new._check_new_point(point)
         new._check_new_point(f"{point}_contact")
@@ -835,6 +838,13 @@ class Linkage:
             be assembled (or its links are in line: a toggle).
         """
         omega, eps = speed_pair(speed, epsilon)
+        if not ops.is_symbolic(phi):
+            try:
+                phi = np.asarray(phi, dtype=float) if np.ndim(phi) else float(phi)
+            except (TypeError, ValueError):
+                raise ValueError(f"phi must be crank angles in rad, got {phi!r}") from None
+            if not np.all(np.isfinite(phi)):
+                raise ValueError("phi must be finite crank angles in rad")
         st = self._solve(phi)
         crank_key = self._groups[0].key
         zero = 0.0 * st.points[crank_key].x
