@@ -457,7 +457,10 @@ def animate_sketch(
 
     n = sketch.frames
     dt, interval, playback = _playback(sketch, speed, duration)
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
     fig = Figure(figsize=figsize or _figsize(sketch, 6.4), dpi=dpi, layout="constrained")
+    FigureCanvasAgg(fig)
     ax = fig.add_subplot()
     scene = _Scene(sketch, ax, trace=trace, color=color)
     _prepare_axes(ax, scene, sketch, fresh=True)

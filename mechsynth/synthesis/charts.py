@@ -461,7 +461,7 @@ def sweep(
     Raises ValueError when no design of the grid is feasible (the message gives the first
     reason).
     """
-    from tqdm.auto import tqdm
+    from ..progress import bar as progress_bar
 
     t0 = time.perf_counter()
     if not grid:
@@ -576,11 +576,8 @@ def sweep(
         ok_all[idx] = ok
 
     n_chunks = -(-total // chunk)
-    bar = tqdm(
-        total=n_chunks,
-        disable=None if progress else True,
-        desc=f"sweep {total} designs",
-        leave=False,
+    bar = progress_bar(
+        total=n_chunks, desc=f"sweep {total} designs", enabled=None if progress else False
     )
     workers = int(workers)
     if workers < 1:

@@ -250,7 +250,7 @@ def pareto_front(
         Failed solves are recorded (``success``), never raised; when an anchor fails, the sweep
         stops there and the front holds what was solved.
     """
-    from tqdm.auto import tqdm
+    from ..progress import bar as progress_bar
 
     t0 = time.perf_counter()
     if eps is not None:
@@ -282,7 +282,7 @@ def pareto_front(
         return true_value(p, first, res.design), true_value(p, second, res.design)
 
     results, eps_list, vals = [], [], []  # per point, anchors first and last
-    bar = tqdm(total=n, disable=None if progress is None else not progress, desc="pareto")
+    bar = progress_bar(total=n, desc="Pareto front", enabled=progress, unit="point")
     # anchor 1: first alone
     p1, r1 = solve(first, senses[0], n_starts=anchor_starts)
     results.append(r1)

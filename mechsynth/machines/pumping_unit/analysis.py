@@ -25,7 +25,7 @@ Unit file (TOML; top-level keys)::
 
 A dynamometer card (``--card card.csv``) has ``position, load`` rows in the unit file's units
 (in and lb, or m and N). Everything is computed in SI; ``--units oilfield`` prints in, lb, in-lb
-and SPM, ``--units si`` m, N, N m and rad/s.
+and SPM, ``--units si`` m, N, N m and rad/s, ``--units mm-deg`` mm, N and N m.
 """
 
 from __future__ import annotations
@@ -67,6 +67,14 @@ OUTPUT_UNITS = {
         "force": ("N", 1.0),
         "torque": ("N m", 1.0),
         "tf": ("m", 1.0),
+    },
+    "mm-deg": {
+        "length": ("mm", 1e3),
+        "speed": ("mm/s", 1e3),
+        "accel": ("mm/s^2", 1e3),
+        "force": ("N", 1.0),
+        "torque": ("N m", 1.0),
+        "tf": ("mm", 1e3),
     },
     "oilfield": {
         "length": ("in", 1.0 / INCH),
@@ -164,7 +172,7 @@ def analyze(unit_file, card=None, out=None, units="oilfield", n=720) -> StudyRes
     the output ``units``, named in ``data["units"]``); ``data["success"]`` is False when the
     counterbalance optimization fails."""
     if units not in OUTPUT_UNITS:
-        raise ValueError(f"units must be 'si' or 'oilfield', got {units!r}")
+        raise ValueError(f"units must be one of {', '.join(OUTPUT_UNITS)}, got {units!r}")
     unit, op = load_unit(unit_file)
     U = OUTPUT_UNITS[units]
 

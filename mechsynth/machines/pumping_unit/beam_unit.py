@@ -93,6 +93,11 @@ class PumpMotion(Motion):
     crank-angle analog, also when the motion has a speed).
     """
 
+    extra_units: ClassVar[dict[str, str]] = {
+        "torque_factor": "m/rad",
+        "acceleration_analog": "m/rad^2",
+    }
+
     @property
     def polished_rod(self) -> SliderTrack:
         return self.sliders["polished_rod"]
