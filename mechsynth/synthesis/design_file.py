@@ -75,7 +75,9 @@ def load_design(source) -> DesignSpec:
     known = design_mechanisms()
     name = data.get("mechanism")
     if name not in known:
-        raise ValueError(f"{where}mechanism must be one of {', '.join(sorted(known))}, got {name!r}")
+        raise ValueError(
+            f"{where}mechanism must be one of {', '.join(sorted(known))}, got {name!r}"
+        )
     cls = known[name]
     fields = {f.name: f for f in dataclasses.fields(cls)}
     values = {}
