@@ -33,6 +33,9 @@ __all__ = [
     "speed_text",
     "layout_problems",
     "save",
+    "label_contours",
+    "prune_labels",
+    "readable",
 ]
 
 #: Okabe & Ito (2008): black, orange, sky blue, bluish green, blue, vermillion, reddish purple,
@@ -137,6 +140,72 @@ def save(fig, path, dpi: int = 120) -> Path:
     fig.savefig(path, dpi=dpi)
     plt.close(fig)
     return path
+
+
+def readable(measure: str, output: str = "slider") -> str:
+    """A measure's code name as words: ``"peak_acceleration(slider)"`` -> ``"peak acceleration
+    of the slider"``; ``output`` names what the mechanism calls its slider (``"polished rod"``
+    for a pumping unit)."""
+    import re
+
+    m = re.fullmatch(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*(?:\((.*)\))?\s*", measure)
+    if not m:
+        return measure
+    words = m.group(1).replace("_", " ")
+    args = [a.strip() for a in (m.group(2) or "").split(",") if a.strip()]
+    if not args:
+        return words
+    target = args[0]
+    who = f"the {output}" if target == "slider" else target
+    rest = f" ({', '.join(args[1:])})" if len(args) > 1 else ""
+    return f"{words} of {who}{rest}"
+
+
+CONTOUR_LABEL = "mechsynth-contour-label"
+
+
+def label_contours(ax, cs, fmt="%.3g", fontsize: float = 7.0, every: int = 1):
+    """Label the contour set ``cs`` on a light box (the line shows no gap, so a label that
+    :func:`prune_labels` removes leaves no hole); ``every`` labels every n-th level."""
+    levels = cs.levels[::every] if every > 1 else cs.levels
+    texts = ax.clabel(cs, levels, fmt=fmt, fontsize=fontsize, inline=False)
+    for t in texts:
+        t.set_bbox(dict(boxstyle="round,pad=0.12", fc="white", ec="none", alpha=0.8))
+        t.set_gid(CONTOUR_LABEL)
+    return texts
+
+
+def prune_labels(fig, pad: float = 1.0) -> int:
+    """Remove the contour labels (:func:`label_contours`) that overlap another text, another
+    kept label, a legend, or stick out of their axes; returns how many were removed. Call it
+    when the figure is complete (it lays the figure out)."""
+    from matplotlib.legend import Legend
+
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    labels, others = [], []
+    for t, bb in _texts(fig):
+        (labels if t.get_gid() == CONTOUR_LABEL else others).append((t, bb))
+    blocks = [bb for _, bb in others] + [
+        leg.get_window_extent(renderer) for leg in fig.findobj(Legend)
+    ]
+    kept, removed = [], 0
+    for t, bb in labels:
+        box = t.get_bbox_patch().get_window_extent(renderer) if t.get_bbox_patch() else bb
+        ab = t.axes.bbox if t.axes is not None else fig.bbox
+        inside = (
+            ab.x0 + pad <= box.x0
+            and box.x1 <= ab.x1 - pad
+            and ab.y0 + pad <= box.y0
+            and (box.y1 <= ab.y1 - pad)
+        )
+        clash = any(box.overlaps(o) for o in blocks) or any(box.overlaps(k) for k in kept)
+        if inside and not clash:
+            kept.append(box)
+        else:
+            t.remove()
+            removed += 1
+    return removed
 
 
 # ------------------------------------------------------------------------------ checks

@@ -93,6 +93,7 @@ class NailHeader(Mechanism):
     parameter_units: ClassVar[dict[str, str]] = {"m3": "kg", "counterweight": "kg m"}
     #: the machine turns clockwise: decreasing phi
     turn_sign: ClassVar[int] = -1
+    output_label: ClassVar[str] = "punch slider"
 
     def __post_init__(self):
         for name in ("l_oa", "l_ab", "l_de", "l_es5", "x_bc", "h", "d", "l_blank", "cw_radius"):

@@ -71,6 +71,7 @@ class DwellSliderCrank(Mechanism):
     default_output: ClassVar[str] = "C"
     parameter_units: ClassVar[dict[str, str]] = {"r": "", "k": "", "gamma": "rad", "xi": "rad"}
     trace_points: ClassVar[tuple[str, ...]] = ("C",)
+    output_label: ClassVar[str] = "link 5"
 
     def __post_init__(self):
         object.__setattr__(self, "r", check_length("r", self.r))

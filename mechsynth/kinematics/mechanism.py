@@ -122,6 +122,8 @@ class Mechanism:
     turn_sign: ClassVar[int] = 1
     #: points whose paths drawings and animations trace by default
     trace_points: ClassVar[tuple[str, ...]] = ()
+    #: what reports and figures call the main slider ("polished rod" on a pumping unit)
+    output_label: ClassVar[str] = "slider"
 
     def motion(self, phi, speed=None, epsilon=0.0, **kwargs) -> Motion:  # pragma: no cover
         raise NotImplementedError

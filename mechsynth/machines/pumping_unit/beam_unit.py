@@ -192,6 +192,7 @@ class BeamPumpingUnit(Mechanism):
         "pivot_y",
     )
     default_output: ClassVar[str] = "slider"
+    output_label: ClassVar[str] = "polished rod"
 
     def __post_init__(self):
         for name in ("crank", "pitman", "rear_arm", "front_arm", "pivot_y"):
