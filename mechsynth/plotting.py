@@ -220,6 +220,8 @@ def _texts(fig):
         for axis in ax._axis_map.values():
             for tick in axis.majorTicks + axis.minorTicks:
                 all_ticks.update((id(tick.label1), id(tick.label2)))
+            if not (ax.axison and axis.get_visible() and ax.get_visible()):
+                continue
             for tick in axis._update_ticks():
                 drawn.update((id(tick.label1), id(tick.label2)))
     out = []

@@ -170,3 +170,29 @@ def test_peak_angles_are_reported_in_one_turn():
 def test_four_bar_result_values_keep_the_branch():
     fb = ms.FourBar(crank=1.0, coupler=4.3, rocker=3.0, ground=5.2, branch="crossed")
     assert ms.FourBar(**fb.as_dict()) == fb
+
+
+def test_progress_bars_only_on_a_terminal_and_never_when_quiet(capsys):
+    from mechsynth import progress
+
+    assert progress.bar(range(3), desc="x").disable  # pytest's stderr is not a terminal
+    assert not progress.bar(range(3), enabled=True).disable
+    with progress.quiet():
+        assert progress.is_quiet() and progress.bar(range(3), enabled=True).disable
+    assert not progress.is_quiet()
+    with progress.Stages("study", ["first", "second"], enabled=True) as st:
+        st.next("first")
+        st.next("second")
+    assert "study: second" in capsys.readouterr().err
+
+
+def test_measure_names_in_words():
+    from mechsynth.plotting import readable
+
+    assert readable("peak_acceleration(slider)", "polished rod") == (
+        "peak acceleration of the polished rod"
+    )
+    assert readable("max_pressure_angle") == "max pressure angle"
+    assert readable("peak_velocity(C, direction=1.5708)") == (
+        "peak velocity of C (direction=1.5708)"
+    )

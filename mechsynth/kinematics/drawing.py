@@ -103,24 +103,42 @@ class _Scene:
         self.blocks, self.slots = [], []
         for sl in sketch.sliders:
             block = Polygon(
-                np.zeros((4, 2)), closed=True, facecolor="white", edgecolor=colour, lw=1.6,
-                alpha=alpha, zorder=4,
-            )  # fmt: skip
+                np.zeros((4, 2)),
+                closed=True,
+                facecolor="white",
+                edgecolor=colour,
+                lw=1.6,
+                alpha=alpha,
+                zorder=4,
+            )
             ax.add_patch(block)
             self.blocks.append((sl, block))
             if sl.through is None:
                 self._draw_guide(sl, alpha)
             else:
                 slot = Polygon(
-                    np.zeros((4, 2)), closed=True, facecolor="none", edgecolor=colour, lw=1.3,
-                    alpha=alpha, zorder=3,
-                )  # fmt: skip
+                    np.zeros((4, 2)),
+                    closed=True,
+                    facecolor="none",
+                    edgecolor=colour,
+                    lw=1.3,
+                    alpha=alpha,
+                    zorder=3,
+                )
                 ax.add_patch(slot)
                 self.slots.append((sl, slot, self._slot_range(sl)))
         self.joints = ax.plot(
-            [], [], "o", ms=5.5, mfc="white", mec=colour, mew=1.4, ls="none", alpha=alpha,
+            [],
+            [],
+            "o",
+            ms=5.5,
+            mfc="white",
+            mec=colour,
+            mew=1.4,
+            ls="none",
+            alpha=alpha,
             zorder=5,
-        )[0]  # fmt: skip
+        )[0]
         self.traces = []
         for i, name in enumerate(trace or ()):
             if name not in sketch.points:
@@ -130,9 +148,14 @@ class _Scene:
             x, y = sketch.points[name]
             c = TRACE_COLOURS[i % len(TRACE_COLOURS)]
             path = ax.plot(
-                np.append(x, x[:1]) / self.L, np.append(y, y[:1]) / self.L, ls="--", lw=1.1,
-                color=c, zorder=1.5, label=f"path of {name}",
-            )[0]  # fmt: skip
+                np.append(x, x[:1]) / self.L,
+                np.append(y, y[:1]) / self.L,
+                ls="--",
+                lw=1.1,
+                color=c,
+                zorder=1.5,
+                label=f"path of {name}",
+            )[0]
             self.traces.append(path)
         self.artists = [a for _, patch, line in self.bars for a in (patch, line) if a is not None]
         self.artists += [line for o, line in self.outlines if np.ndim(o.x) == 2]
@@ -143,9 +166,14 @@ class _Scene:
         if labels:
             for name in names:
                 ann = ax.annotate(
-                    name, (0.0, 0.0), xytext=(5, 4), textcoords="offset points", fontsize=8,
-                    color="0.2", zorder=6,
-                )  # fmt: skip
+                    name,
+                    (0.0, 0.0),
+                    xytext=(5, 4),
+                    textcoords="offset points",
+                    fontsize=8,
+                    color="0.2",
+                    zorder=6,
+                )
                 self.labels.append((name, ann))
                 if name not in sketch.ground:
                     self.artists.append(ann)
@@ -162,8 +190,9 @@ class _Scene:
             tri = np.array([[x, y], [x - 0.9 * s, y - 1.5 * s], [x + 0.9 * s, y - 1.5 * s], [x, y]])
             self.ax.plot(tri[:, 0], tri[:, 1], color=FRAME_COLOUR, lw=1.2, alpha=alpha, zorder=1)
             self._hatch((x - 1.6 * s, y - 1.5 * s), (x + 1.6 * s, y - 1.5 * s), 0.0, alpha)
-            self.ax.plot([x], [y], "o", ms=5.5, mfc="white", mec=FRAME_COLOUR, mew=1.4,
-                         alpha=alpha, zorder=5)  # fmt: skip
+            self.ax.plot(
+                [x], [y], "o", ms=5.5, mfc="white", mec=FRAME_COLOUR, mew=1.4, alpha=alpha, zorder=5
+            )
 
     def _hatch(self, p, q, angle, alpha):
         """A frame line from p to q with short hatch strokes on its right side (seen from p)."""
@@ -205,9 +234,13 @@ class _Scene:
         u, n = np.array([np.cos(a), np.sin(a)]), np.array([-np.sin(a), np.cos(a)])
         c = np.asarray(centre) + offset[0] * u
         return np.array(
-            [c - half_u * u - half_n * n, c + half_u * u - half_n * n,
-             c + half_u * u + half_n * n, c - half_u * u + half_n * n]
-        )  # fmt: skip
+            [
+                c - half_u * u - half_n * n,
+                c + half_u * u - half_n * n,
+                c + half_u * u + half_n * n,
+                c - half_u * u + half_n * n,
+            ]
+        )
 
     def update(self, frame: int):
         sk = self.sketch

@@ -259,6 +259,11 @@ class Mechanism:
         sk = self.sketch(np.asarray(angles, dtype=float), **options)
         trace = self.trace_points if trace is None else tuple(trace)
         return animate_sketch(
-            sk, speed=speed, trace=trace, duration=duration, figsize=figsize, dpi=dpi,
+            sk,
+            speed=speed,
+            trace=trace,
+            duration=duration,
+            figsize=figsize,
+            dpi=dpi,
             title=title,
-        )  # fmt: skip
+        )

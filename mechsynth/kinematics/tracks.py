@@ -181,9 +181,13 @@ class Motion:
         cols = [("phi", "rad", arr(self.phi))]
         for name, p in self.points.items():
             for comp, unit, val in (
-                ("x", "m", p.x), ("y", "m", p.y), ("vx", v, p.vx), ("vy", v, p.vy),
-                ("ax", a, p.ax), ("ay", a, p.ay),
-            ):  # fmt: skip
+                ("x", "m", p.x),
+                ("y", "m", p.y),
+                ("vx", v, p.vx),
+                ("vy", v, p.vy),
+                ("ax", a, p.ax),
+                ("ay", a, p.ay),
+            ):
                 cols.append((f"{name} {comp}", unit, arr(val)))
         for name, sl in self.sliders.items():
             cols += [

@@ -284,9 +284,14 @@ class Chart:
                         cb = fig.colorbar(cf, ax=ax)
                         cb.set_label(f"{lab}, {unit}" if unit else lab)
                     cs = ax.contour(
-                        X, Y, z, levels=lv, colors=colour, linewidths=0.7 if i == 0 else 1.1,
+                        X,
+                        Y,
+                        z,
+                        levels=lv,
+                        colors=colour,
+                        linewidths=0.7 if i == 0 else 1.1,
                         linestyles=ls,
-                    )  # fmt: skip
+                    )
                     label_contours(ax, cs, fmt="%.4g", fontsize=7, every=1 if i == 0 else 2)
                 name = f"{lab}, {unit}" if unit else lab
                 handles.append(Line2D([], [], color=colour, ls=ls, label=name))
@@ -294,9 +299,13 @@ class Chart:
             if infeasible.any():
                 with plt.rc_context({"hatch.color": "0.35", "hatch.linewidth": 0.6}):
                     ax.contourf(
-                        X, Y, infeasible.astype(float), levels=[0.5, 1.5], colors=["0.82"],
+                        X,
+                        Y,
+                        infeasible.astype(float),
+                        levels=[0.5, 1.5],
+                        colors=["0.82"],
                         hatches=["xx"],
-                    )  # fmt: skip
+                    )
                 handles.append(
                     Patch(facecolor="0.82", hatch="xx", edgecolor="0.35", label="infeasible design")
                 )
@@ -310,19 +319,25 @@ class Chart:
                 if bad.any():
                     with plt.rc_context({"hatch.color": "0.25", "hatch.linewidth": 0.5}):
                         ax.contourf(
-                            X, Y, bad.astype(float), levels=[0.5, 1.5], colors="none",
+                            X,
+                            Y,
+                            bad.astype(float),
+                            levels=[0.5, 1.5],
+                            colors="none",
                             hatches=[hatch],
-                        )  # fmt: skip
+                        )
                     zmin, zmax = float(z.min()), float(z.max())
                     if zmin < shown < zmax:
                         ax.contour(X, Y, z, levels=[shown], colors=colour, linewidths=2.6)
                 inv = {"<=": ">", "<": ">=", ">=": "<", ">": "<="}[op]
                 handles.append(
                     Patch(
-                        facecolor="none", hatch=hatch, edgecolor="0.25",
+                        facecolor="none",
+                        hatch=hatch,
+                        edgecolor="0.25",
                         label=f"{lab} {inv} {shown:g} {unit}".rstrip(),
                     )
-                )  # fmt: skip
+                )
                 handles.append(
                     Line2D([], [], color=colour, lw=2.6, label=f"limit {lab} = {shown:g} {unit}")
                 )
@@ -340,22 +355,41 @@ class Chart:
                     bx, by = b["grid"][xn], b["grid"][yn]
                     z, unit, conv = self._display(best)
                     val = float(conv(b["values"][best]))
-                    ax.plot(bx, by, marker="*", ms=16, color="gold", mec="k", zorder=6,
-                            clip_on=False, ls="none")  # fmt: skip
+                    ax.plot(
+                        bx,
+                        by,
+                        marker="*",
+                        ms=16,
+                        color="gold",
+                        mec="k",
+                        zorder=6,
+                        clip_on=False,
+                        ls="none",
+                    )
                     note = ""
                     if b["on_edge"]:
                         note = " (on the grid's edge)"
                         ax.annotate(
-                            "on the grid's edge", (bx, by), xytext=(-12, -14),
-                            textcoords="offset points", ha="right", fontsize=8,
+                            "on the grid's edge",
+                            (bx, by),
+                            xytext=(-12, -14),
+                            textcoords="offset points",
+                            ha="right",
+                            fontsize=8,
                             bbox=dict(boxstyle="round,pad=0.2", fc="white", ec="0.3"),
-                        )  # fmt: skip
+                        )
                     handles.append(
                         Line2D(
-                            [], [], marker="*", ms=12, color="gold", mec="k", ls="none",
+                            [],
+                            [],
+                            marker="*",
+                            ms=12,
+                            color="gold",
+                            mec="k",
+                            ls="none",
                             label=f"best grid design: {best} = {val:.5g} {unit}{note}".rstrip(),
                         )
-                    )  # fmt: skip
+                    )
             ax.set_xlabel(self.labels.get(xn, xn))
             ax.set_ylabel(self.labels.get(yn, yn))
             ax.grid(True, alpha=0.3, ls=":")

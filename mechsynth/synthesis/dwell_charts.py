@@ -203,9 +203,14 @@ def plot_dwell_chart(chart: DwellChart, path=None):
     moves = chart.moves
     with style():
         fig, axes = plt.subplots(
-            ng, 3, figsize=(14, 1.0 + 3.9 * ng), squeeze=False, layout="constrained",
-            sharex=True, sharey=True,
-        )  # fmt: skip
+            ng,
+            3,
+            figsize=(14, 1.0 + 3.9 * ng),
+            squeeze=False,
+            layout="constrained",
+            sharex=True,
+            sharey=True,
+        )
         dwell = np.ma.MaskedArray(chart.dwell_deg, ~moves)
         top = float(dwell.max()) if dwell.count() else 360.0
         dwell_levels = MaxNLocator(12).tick_values(0.0, max(top, 10.0))
@@ -217,30 +222,60 @@ def plot_dwell_chart(chart: DwellChart, path=None):
         for gi, gamma in enumerate(chart.gamma_deg):
             row = axes[gi]
             cf0 = row[0].contourf(rr, kk, dwell[gi], levels=dwell_levels, cmap="viridis")
-            cs = row[0].contour(rr, kk, dwell[gi], levels=dwell_levels[::2], colors="k",
-                                linewidths=0.6)  # fmt: skip
+            cs = row[0].contour(
+                rr, kk, dwell[gi], levels=dwell_levels[::2], colors="k", linewidths=0.6
+            )
             label_contours(row[0], cs, fmt="%.0f")
             if (~moves[gi]).any():
                 with plt.rc_context({"hatch.color": "0.45", "hatch.linewidth": 0.5}):
-                    row[0].contourf(rr, kk, (~moves[gi]).astype(float), levels=[0.5, 1.5],
-                                    colors=["0.9"], hatches=["//"])  # fmt: skip
-            cf1 = row[1].contourf(rr, kk, width[gi], levels=width_levels, cmap="magma_r",
-                                  norm=LogNorm(lo, hi), extend="min")  # fmt: skip
-            cs = row[1].contour(rr, kk, width[gi], levels=width_levels[::3], colors="k",
-                                linewidths=0.6)  # fmt: skip
+                    row[0].contourf(
+                        rr,
+                        kk,
+                        (~moves[gi]).astype(float),
+                        levels=[0.5, 1.5],
+                        colors=["0.9"],
+                        hatches=["//"],
+                    )
+            cf1 = row[1].contourf(
+                rr,
+                kk,
+                width[gi],
+                levels=width_levels,
+                cmap="magma_r",
+                norm=LogNorm(lo, hi),
+                extend="min",
+            )
+            cs = row[1].contour(
+                rr, kk, width[gi], levels=width_levels[::3], colors="k", linewidths=0.6
+            )
             label_contours(row[1], cs, fmt=lambda v: f"{v:.2g}")
             cf2 = row[2].contourf(rr, kk, chart.S_max[gi], levels=stroke_levels, cmap="cividis")
-            cs = row[2].contour(rr, kk, chart.S_max[gi], levels=stroke_levels[::2], colors="k",
-                                linewidths=0.6)  # fmt: skip
+            cs = row[2].contour(
+                rr, kk, chart.S_max[gi], levels=stroke_levels[::2], colors="k", linewidths=0.6
+            )
             label_contours(row[2], cs, fmt="%.2g")
             if chart.stroke > 0 and chart.S_max[gi].min() < chart.stroke < chart.S_max[gi].max():
-                row[2].contour(rr, kk, chart.S_max[gi], levels=[chart.stroke], colors=PALETTE[6],
-                               linewidths=2.4)  # fmt: skip
+                row[2].contour(
+                    rr,
+                    kk,
+                    chart.S_max[gi],
+                    levels=[chart.stroke],
+                    colors=PALETTE[6],
+                    linewidths=2.4,
+                )
             best = chart.best(gi)
             if best is not None:
                 for ax in row:
-                    ax.plot(best["r"], best["k"], "*", ms=13, color="gold", mec="k",
-                            clip_on=False, zorder=6)  # fmt: skip
+                    ax.plot(
+                        best["r"],
+                        best["k"],
+                        "*",
+                        ms=13,
+                        color="gold",
+                        mec="k",
+                        clip_on=False,
+                        zorder=6,
+                    )
             for ax in row:
                 ax.grid(True, alpha=0.3, ls=":")
             row[0].set_ylabel(f"γ = {gamma:g}°\nk = l_AC / l")
@@ -261,12 +296,24 @@ def plot_dwell_chart(chart: DwellChart, path=None):
                 cb.update_ticks()
             cb.set_label(f"{head.split(' (')[0]}, {unit}", fontsize=8)
         handles = [
-            Line2D([], [], marker="*", ms=11, color="gold", mec="k", ls="none",
-                   label="longest dwell of the bend (S_max ≥ minimum)"),
-            Patch(facecolor="0.9", hatch="//", edgecolor="0.45",
-                  label=f"link 5 moves less than S_max = {chart.stroke:g} l"),
+            Line2D(
+                [],
+                [],
+                marker="*",
+                ms=11,
+                color="gold",
+                mec="k",
+                ls="none",
+                label="longest dwell of the bend (S_max ≥ minimum)",
+            ),
+            Patch(
+                facecolor="0.9",
+                hatch="//",
+                edgecolor="0.45",
+                label=f"link 5 moves less than S_max = {chart.stroke:g} l",
+            ),
             Line2D([], [], color=PALETTE[6], lw=2.4, label=f"S_max = {chart.stroke:g} l"),
-        ]  # fmt: skip
+        ]
         fig.legend(handles=handles, loc="outside lower center", ncol=3, fontsize=8)
         fig.suptitle(
             "Dwell linkage on a central slider-crank: design chart "

@@ -181,18 +181,29 @@ class ParetoFront:
             ly, lx = self.labels()
             nd = self.nondominated
             order = np.flatnonzero(nd)[np.argsort(x[nd])]
-            ax.plot(x[order], y[order], "-o", color=PALETTE[4], ms=5,
-                    label="non-dominated designs")  # fmt: skip
+            ax.plot(x[order], y[order], "-o", color=PALETTE[4], ms=5, label="non-dominated designs")
             dom = self.success & ~nd
             if dom.any():
                 ax.plot(x[dom], y[dom], "o", mfc="none", color="0.5", label="dominated")
             ends = [i for i in (0, self.n_points - 1) if self.success[i]]
             if ends:
-                ax.plot(x[ends], y[ends], "s", ms=10, mfc="none", color=PALETTE[5],
-                        label="anchors (one measure alone)")  # fmt: skip
+                ax.plot(
+                    x[ends],
+                    y[ends],
+                    "s",
+                    ms=10,
+                    mfc="none",
+                    color=PALETTE[5],
+                    label="anchors (one measure alone)",
+                )
             if (~self.success).any():
-                ax.plot([], [], "x", color=PALETTE[5],
-                        label=f"{int((~self.success).sum())} failed solves")  # fmt: skip
+                ax.plot(
+                    [],
+                    [],
+                    "x",
+                    color=PALETTE[5],
+                    label=f"{int((~self.success).sum())} failed solves",
+                )
             ax.set_xlabel(f"{lx}, {ux}" if ux else lx)
             ax.set_ylabel(f"{ly}, {uy}" if uy else ly)
             ax.margins(0.08)
