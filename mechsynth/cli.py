@@ -320,23 +320,16 @@ def _add_animate(sub) -> None:
 
 def _read_design(path):
     """(design, speed, trace) from a design file or a pumping-unit file."""
-    import tomllib
-    from pathlib import Path
+    from .synthesis.design_file import load_design, read_toml
 
-    from .synthesis.design_file import load_design
-
-    with open(path, "rb") as fh:
-        try:
-            data = tomllib.load(fh)
-        except tomllib.TOMLDecodeError as exc:
-            raise ValueError(f"{path}: not valid TOML ({exc})") from exc
+    data, path = read_toml(path)
     if "mechanism" not in data and {"A", "C", "P", "R"} <= set(data):
         from .machines.pumping_unit.analysis import load_unit
         from .units import spm
 
-        unit, op = load_unit(Path(path))
+        unit, op = load_unit(path)
         return unit, (spm(op["spm"]) if op.get("spm") else None), None
-    spec = load_design(data)
+    spec = load_design(path)  # read again: its messages name the file
     return spec.design, spec.speed, spec.trace
 
 

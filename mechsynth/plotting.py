@@ -239,6 +239,15 @@ def _texts(fig):
     return out
 
 
+def _line_points(line) -> np.ndarray:
+    """A visible line's finite points in display (pixel) coordinates."""
+    xy = line.get_xydata()
+    if not line.get_visible() or xy.size == 0:
+        return np.zeros((0, 2))
+    pts = line.get_transform().transform(xy)
+    return pts[np.all(np.isfinite(pts), axis=1)]
+
+
 def layout_problems(fig, tol: float = 0.5) -> list[str]:
     """What a reader would see as defects of a drawn figure, one line each (empty if none):
 
@@ -276,20 +285,12 @@ def layout_problems(fig, tol: float = 0.5) -> list[str]:
         leg = ax.get_legend()
         if leg is not None and leg.get_visible():
             lb = leg.get_window_extent(renderer)
-            for line in ax.get_lines():
-                # data curves only (reference lines such as axhline span the axes)
-                if not line.get_visible() or line.get_transform() != ax.transData:
-                    continue
-                xy = line.get_xydata()
-                if xy.size == 0:
-                    continue
-                pts = line.get_transform().transform(xy)
-                pts = pts[np.all(np.isfinite(pts), axis=1)]
-                inside_axes = ax.bbox.contains
+            # data curves only (reference lines such as axhline span the axes)
+            for line in (ln for ln in ax.get_lines() if ln.get_transform() == ax.transData):
                 hidden = [
                     p
-                    for p in pts
-                    if lb.x0 < p[0] < lb.x1 and lb.y0 < p[1] < lb.y1 and inside_axes(*p)
+                    for p in _line_points(line)
+                    if lb.x0 < p[0] < lb.x1 and lb.y0 < p[1] < lb.y1 and ax.bbox.contains(*p)
                 ]
                 if hidden:
                     problems.append(
@@ -297,21 +298,11 @@ def layout_problems(fig, tol: float = 0.5) -> list[str]:
                         f"{line.get_label()!r}"
                     )
         for line in ax.get_lines():
-            marker = line.get_marker()
-            if (
-                not line.get_visible()
-                or marker in (None, "", "None", " ")
-                or not line.get_clip_on()
-            ):
+            if line.get_marker() in (None, "", "None", " ") or not line.get_clip_on():
                 continue
-            xy = line.get_xydata()
-            if xy.size == 0:
-                continue
-            pts = line.get_transform().transform(xy)
-            pts = pts[np.all(np.isfinite(pts), axis=1)]
             r = line.get_markersize() * fig.dpi / 72.0 / 2.0
             b = ax.bbox
-            for p in pts:
+            for p in _line_points(line):
                 inside = b.x0 <= p[0] <= b.x1 and b.y0 <= p[1] <= b.y1
                 near = (
                     p[0] - b.x0 < r - tol

@@ -53,6 +53,13 @@ def _angle_text(sketch: Sketch, frame: int, short: bool = False) -> str:
     return f"{name} = {value:.3f} rad"
 
 
+def _rectangle(**style):
+    """A four-cornered patch whose corners each frame sets (a slider block, a slot)."""
+    from matplotlib.patches import Polygon
+
+    return Polygon(np.zeros((4, 2)), closed=True, **style)
+
+
 class _Scene:
     """The artists of one sketch in one axes, updated frame by frame."""
 
@@ -102,30 +109,16 @@ class _Scene:
         self._draw_ground(alpha)
         self.blocks, self.slots = [], []
         for sl in sketch.sliders:
-            block = Polygon(
-                np.zeros((4, 2)),
-                closed=True,
-                facecolor="white",
-                edgecolor=colour,
-                lw=1.6,
-                alpha=alpha,
-                zorder=4,
+            block = ax.add_patch(
+                _rectangle(facecolor="white", edgecolor=colour, lw=1.6, alpha=alpha, zorder=4)
             )
-            ax.add_patch(block)
             self.blocks.append((sl, block))
             if sl.through is None:
                 self._draw_guide(sl, alpha)
             else:
-                slot = Polygon(
-                    np.zeros((4, 2)),
-                    closed=True,
-                    facecolor="none",
-                    edgecolor=colour,
-                    lw=1.3,
-                    alpha=alpha,
-                    zorder=3,
+                slot = ax.add_patch(
+                    _rectangle(facecolor="none", edgecolor=colour, lw=1.3, alpha=alpha, zorder=3)
                 )
-                ax.add_patch(slot)
                 self.slots.append((sl, slot, self._slot_range(sl)))
         self.joints = ax.plot(
             [],
@@ -189,12 +182,12 @@ class _Scene:
             x, y = self._xy(g, 0)
             tri = np.array([[x, y], [x - 0.9 * s, y - 1.5 * s], [x + 0.9 * s, y - 1.5 * s], [x, y]])
             self.ax.plot(tri[:, 0], tri[:, 1], color=FRAME_COLOUR, lw=1.2, alpha=alpha, zorder=1)
-            self._hatch((x - 1.6 * s, y - 1.5 * s), (x + 1.6 * s, y - 1.5 * s), 0.0, alpha)
+            self._hatch((x - 1.6 * s, y - 1.5 * s), (x + 1.6 * s, y - 1.5 * s), alpha)
             self.ax.plot(
                 [x], [y], "o", ms=5.5, mfc="white", mec=FRAME_COLOUR, mew=1.4, alpha=alpha, zorder=5
             )
 
-    def _hatch(self, p, q, angle, alpha):
+    def _hatch(self, p, q, alpha):
         """A frame line from p to q with short hatch strokes on its right side (seen from p)."""
         p, q = np.asarray(p, float), np.asarray(q, float)
         d = q - p
@@ -220,7 +213,7 @@ class _Scene:
         t = p @ u
         c = float(np.mean(p @ n)) - 0.7 * self.s  # the block's lower face rests on the guide
         lo, hi = float(t.min()) - 2.0 * self.s, float(t.max()) + 2.0 * self.s
-        self._hatch(lo * u + c * n, hi * u + c * n, a, alpha)
+        self._hatch(lo * u + c * n, hi * u + c * n, alpha)
 
     def _slot_range(self, sl):
         x, y = self.sketch.points[sl.point]
@@ -230,9 +223,10 @@ class _Scene:
         return float(t.min()) - 1.6 * self.s, float(t.max()) + 1.6 * self.s
 
     # ------------------------------------------------------------------ frames
-    def _box(self, centre, a, half_u, half_n, offset=(0.0, 0.0)):
+    def _box(self, centre, a, half_u, half_n):
+        """Corners of a rectangle centred at ``centre``, ``2 half_u`` long along ``a``."""
         u, n = np.array([np.cos(a), np.sin(a)]), np.array([-np.sin(a), np.cos(a)])
-        c = np.asarray(centre) + offset[0] * u
+        c = np.asarray(centre)
         return np.array(
             [
                 c - half_u * u - half_n * n,

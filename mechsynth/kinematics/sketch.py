@@ -11,7 +11,7 @@ All coordinates are in SI (m); angles in rad from +x, counter-clockwise.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -89,7 +89,6 @@ class Sketch:
     xlabel: str = "x"
     labels: tuple[str, ...] | None = None
     joints: tuple[str, ...] | None = None
-    extra: dict = field(default_factory=dict)
 
     def __post_init__(self):
         pts = {}

@@ -372,6 +372,8 @@ def _run(out, n_angles, pareto_points, starts, stages):
 
 
 def _summary(base, fit, table, printed, findings, best, best_design, front):
+    from ..display import fmt
+
     lines = [
         "Paper 000: one-armed (Mark II-type) beam pumping unit, axial vs desaxial",
         f"base beam (fitted to the printed r, l by eqs. 2-3): k = {base['k']:.4f} m, "
@@ -409,10 +411,11 @@ def _summary(base, fit, table, printed, findings, best, best_design, front):
     lines.append(f"\nsynthesis: {best.status}; {best.message}")
     if best_design is not None:
         lines.append(
-            f"  crank {best_design.crank:.4f} m, pitman {best_design.pitman:.4f} m, X_O2 "
-            f"{-best_design.pivot_x:.4f} m, Y_O2 {best_design.pivot_y:.4f} m, rotation "
-            f"{best_design.rotation}, upstroke {np.rad2deg(best_design.upstroke_span):.2f} deg, "
-            f"peak acceleration {best.value:.4f} m/s^2"
+            f"  crank {fmt(best_design.crank, 'm', 5)}, pitman {fmt(best_design.pitman, 'm', 5)}, "
+            f"X_O2 {fmt(-best_design.pivot_x, 'm', 5)}, Y_O2 {fmt(best_design.pivot_y, 'm', 5)}, "
+            f"rotation {best_design.rotation}, upstroke "
+            f"{fmt(best_design.upstroke_span, 'rad', 5)}, peak acceleration "
+            f"{fmt(best.value, 'm/s^2', 5)}"
         )
     lines.append(
         "Pareto front (epsilon-constraint on the pressure angle; * non-dominated): "

@@ -25,6 +25,7 @@ from ..kinematics.extreme_velocity import (
     velocity_analog_derivative,
 )
 from ..kinematics.slider_crank import SliderCrank
+from ..progress import Stages
 from ..units import dms, format_dms
 from . import StudyResult
 
@@ -195,9 +196,17 @@ def _figure(path):
 
 
 def run(out=None) -> StudyResult:
-    """Run the study; write ``table1.csv``, ``offset_check.csv`` and ``velocity_analogs.png`` into
-    ``out`` when given."""
+    """Run the study; write ``table1.csv``, ``offset_check.csv``, ``velocity_analogs.png`` and an
+    animation of the b/a = 2 design into ``out`` when given."""
+    names = ["Table 1", "offset designs"] + (["figure and animation"] if out is not None else [])
+    with Stages("extreme-velocity", names) as stages:
+        return _run(out, stages)
+
+
+def _run(out, stages) -> StudyResult:
+    stages.next("Table 1")
     rows = table_1()
+    stages.next("offset designs")
     offsets = offset_check()
     errata = list(ERRATA)
     bad = [r for r in rows if abs(r["lambda_s_relative_deviation"]) > LAMBDA_TOL]
@@ -258,6 +267,7 @@ def run(out=None) -> StudyResult:
 
     files = []
     if out is not None:
+        stages.next("figure and animation")
         out = Path(out)
         _write_csv(out / "table1.csv", rows)
         _write_csv(out / "offset_check.csv", offsets)

@@ -15,6 +15,7 @@ import time
 
 import numpy as np
 
+from ..display import fmt
 from ..dynamics.equation_of_motion import energy_method_flywheel, size_flywheel
 from ..dynamics.nail_header import NailHeader
 from ..dynamics.nail_header_drive import MOTOR_ASSUMPTION, nail_header_speed_fluctuation
@@ -252,14 +253,16 @@ def _run(out, angles, scan_step, stages):
     )
     for key, o in opt.items():
         lines.append(
-            f" optimal slider mass for peak {key}: {o['mass']:.3f} kg (cvxpy, {o['status']}), "
-            f"peak {o['peak']:.0f} N ({o['reduction_pct']:.1f} % below the 15 kg design); "
-            f"scan: {o['scan_mass']:.1f} kg, {o['scan_peak']:.0f} N"
+            f" optimal slider mass for peak {key}: {fmt(o['mass'], 'kg', 6)} (cvxpy, "
+            f"{o['status']}), peak {fmt(o['peak'], 'N', 5)} ({o['reduction_pct']:.1f} % below "
+            f"the 15 kg design); scan: {fmt(o['scan_mass'], 'kg', 4)}, "
+            f"{fmt(o['scan_peak'], 'N', 5)}"
         )
     lines.append(
-        f" jointly with a counterweight: m3 = {joint_out['mass']:.3f} kg, m_cw r_cw = "
-        f"{joint_out['counterweight_kg_m']:.4f} kg m, peak {joint_out['peak']:.0f} N "
-        f"({joint_out['reduction_pct']:.1f} % below the 15 kg design)"
+        f" jointly with a counterweight: m3 = {fmt(joint_out['mass'], 'kg', 6)}, m_cw r_cw = "
+        f"{fmt(joint_out['counterweight_kg_m'], 'kg m', 4)}, peak "
+        f"{fmt(joint_out['peak'], 'N', 5)} ({joint_out['reduction_pct']:.1f} % below the 15 kg "
+        "design)"
     )
     lines.append(
         " A crank counterweight changes only the crank bearing R10 (the crank turns uniformly), so "

@@ -23,7 +23,7 @@ from typing import Any
 
 from .problem_file import MECHANISMS, parse_quantity
 
-__all__ = ["DesignSpec", "load_design", "design_mechanisms"]
+__all__ = ["DesignSpec", "load_design", "design_mechanisms", "read_toml"]
 
 _TOP_KEYS = {"mechanism", "speed", "trace", "design", "title"}
 _TEXT = ("branch", "unit_class", "rotation")
@@ -49,17 +49,21 @@ class DesignSpec:
     source: Path | None = None
 
 
+def read_toml(source) -> tuple[dict, Path | None]:
+    """``(data, path)`` of a TOML file (``path`` None when ``source`` is a dict already)."""
+    if isinstance(source, dict):
+        return source, None
+    path = Path(source)
+    with open(path, "rb") as fh:
+        try:
+            return tomllib.load(fh), path
+        except tomllib.TOMLDecodeError as exc:
+            raise ValueError(f"{path}: not valid TOML ({exc})") from exc
+
+
 def load_design(source) -> DesignSpec:
     """Read a design file (a path, or a dict already parsed from TOML)."""
-    if isinstance(source, dict):
-        data, path = source, None
-    else:
-        path = Path(source)
-        with open(path, "rb") as fh:
-            try:
-                data = tomllib.load(fh)
-            except tomllib.TOMLDecodeError as exc:
-                raise ValueError(f"{path}: not valid TOML ({exc})") from exc
+    data, path = read_toml(source)
     where = f"{path}: " if path else ""
     if "minimize" in data or "maximize" in data or "variables" in data:
         raise ValueError(
