@@ -30,8 +30,13 @@ def main(out=OUT):
     for col, (name, u) in enumerate(units.items()):
         ax = axes[0, col]
         bottom, top = (float(t) for t in u.dead_centres)
-        for t, c, lab in ((bottom, "C0", "bottom"), (top, "C3", "top"), (np.pi / 2, "0.6", "90")):
-            u.draw(t, ax=ax, color=c, alpha=0.9)
+        positions = (
+            (bottom, "#0072B2", "bottom"),
+            (top, "#D55E00", "top"),
+            (np.pi / 2, "0.6", "90"),
+        )
+        for k, (t, c, lab) in enumerate(positions):
+            u.draw(t, ax=ax, color=c, alpha=0.9, labels=k == 0)
             ax.plot([], [], color=c, label=f"{lab}: {np.rad2deg(t):.1f} deg")
         ax.set_title(name)
         ax.legend(fontsize=8, loc="lower left")

@@ -16,7 +16,8 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         result = run_study("spatial-pump", out=tmp)
         for name in KEEP:
-            shutil.copy(Path(tmp) / f"spatial_pump_{name}.png", FIGURES / f"spatial_pump_{name}.png")
+            figure = f"spatial_pump_{name}.png"
+            shutil.copy(Path(tmp) / figure, FIGURES / figure)
     print(result.summary)
 
 

@@ -8,7 +8,8 @@ angles and designs), CasADi exact derivatives for IPOPT, and cvxpy convex subpro
 >>> m = sc.motion(ms.cycle(720), speed=ms.rpm(600))
 """
 
-from . import kinematics, objectives
+from . import display, kinematics, objectives, progress
+from .display import display_units
 from .errors import MechanismError, SolverError
 from .kinematics import FourBar, Linkage, Motion, Param, SliderCrank
 from .machines.dwell import DwellSliderCrank
@@ -20,6 +21,9 @@ from .units import cycle, deg, dms, inch, rpm, spm, to_deg, to_inch, to_rpm
 __version__ = "0.1.0"
 
 __all__ = [
+    "display",
+    "display_units",
+    "progress",
     "kinematics",
     "objectives",
     "Problem",

@@ -20,9 +20,22 @@ EXIT_BAD_INPUT = 1
 EXIT_FAILED = 2
 
 
-def _add_output_options(p: argparse.ArgumentParser) -> None:
+UNITS = ("si", "mm-deg", "oilfield")
+
+
+def _add_output_options(p: argparse.ArgumentParser, units: str = "si") -> None:
     p.add_argument("--out", metavar="DIR", help="write figures and tables into DIR")
     p.add_argument("--json", action="store_true", help="print machine-readable JSON results")
+    p.add_argument(
+        "--units",
+        choices=UNITS,
+        default=units,
+        help="units of printed reports, tables and figure labels (SI inside): si (m, deg, N), "
+        f"mm-deg (mm, deg, N) or oilfield (in, deg, lbf, in-lb); default {units}",
+    )
+    p.add_argument(
+        "--quiet", action="store_true", help="no progress bars (they show only on a terminal)"
+    )
 
 
 # ------------------------------------------------------------------------------- study
@@ -202,13 +215,19 @@ def _add_optimize(sub) -> None:
         "optimize",
         help="solve a synthesis problem from a TOML file (see docs/synthesis.md)",
         description="Solve a synthesis problem file; print the report, write result.json and "
-        "optimum.png into --out. Exits 2 when the problem is infeasible or the solver fails.",
+        "optimum.png (and with --animate optimum.gif) into --out. Exits 2 when the problem is "
+        "infeasible or the solver fails.",
     )
     p.add_argument("problem", help="problem file (TOML)")
     p.add_argument("--method", choices=("ipopt", "slsqp", "de"), help="override the file's method")
     p.add_argument("--starts", type=int, help="override the multi-start count")
     p.add_argument("--seed", type=int, help="override the seed")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument(
+        "--animate",
+        action="store_true",
+        help="also write optimum.gif into --out: the optimum moving over a turn",
+    )
     _add_output_options(p)
     p.set_defaults(func=_optimize_run)
 
@@ -218,6 +237,8 @@ def _optimize_run(args) -> int:
 
     from .synthesis.problem_file import load_problem
 
+    if args.animate and not args.out:
+        raise ValueError("--animate writes optimum.gif: give --out DIR")
     spec = load_problem(args.problem)
     overrides = {k: getattr(args, k) for k in ("method", "starts", "seed")}
     overrides = {k: v for k, v in overrides.items() if v is not None}
@@ -241,6 +262,9 @@ def _optimize_run(args) -> int:
             fig.savefig(out / "optimum.png", dpi=120)
             plt.close(fig)
             files.append(out / "optimum.png")
+            if args.animate:
+                anim = res.design.animate(speed=res.speed, frames=48)
+                files.append(anim.save(out / "optimum.gif"))
     if args.json:
         print(dumps(res.to_dict()))
     else:
@@ -267,13 +291,7 @@ def _add_pump_parser(sub) -> None:
     )
     pa.add_argument("unit", help="unit file (TOML)")
     pa.add_argument("--card", metavar="CSV", help="dynamometer card: position, load rows")
-    pa.add_argument(
-        "--units",
-        choices=("si", "oilfield"),
-        default="oilfield",
-        help="output units: oilfield (in, lb, in-lb, SPM; default) or si (m, N, N m)",
-    )
-    _add_output_options(pa)
+    _add_output_options(pa, units="oilfield")
     pa.set_defaults(func=_pump_analyze)
 
 
@@ -283,6 +301,90 @@ def _pump_analyze(args) -> int:
     result = analyze(args.unit, card=args.card, out=args.out, units=args.units)
     rc = _print_result(result, args)
     return EXIT_FAILED if rc else 0
+
+
+# ------------------------------------------------------------------------------- animate
+def _add_animate(sub) -> None:
+    p = sub.add_parser(
+        "animate",
+        help="draw and animate a mechanism from a design file (TOML)",
+        description="Draw a design at a crank angle (PNG) and animate it over one turn (GIF by "
+        "pillow; MP4 where ffmpeg is installed; HTML). FILE is a design file (mechanism = ..., "
+        "optional speed and trace, a [design] table; see docs/drawing.md) or a pumping-unit "
+        "file as read by 'pump analyze'.",
+    )
+    p.add_argument("file", help="design file (TOML)")
+    p.add_argument("--frames", type=int, default=48, help="frames per turn (default 48)")
+    p.add_argument(
+        "--format", choices=("gif", "mp4", "html"), default="gif", help="animation format"
+    )
+    p.add_argument("--angle", type=float, default=0.0, help="crank angle of the still, deg")
+    p.add_argument("--dpi", type=int, default=80, help="resolution of the animation")
+    _add_output_options(p)
+    p.set_defaults(func=_animate_run)
+
+
+def _read_design(path):
+    """(design, speed, trace) from a design file or a pumping-unit file."""
+    from .synthesis.design_file import load_design, read_toml
+
+    data, path = read_toml(path)
+    if "mechanism" not in data and {"A", "C", "P", "R"} <= set(data):
+        from .machines.pumping_unit.analysis import load_unit
+        from .units import spm
+
+        unit, op = load_unit(path)
+        return unit, (spm(op["spm"]) if op.get("spm") else None), None
+    spec = load_design(path)  # read again: its messages name the file
+    return spec.design, spec.speed, spec.trace
+
+
+def _animate_run(args) -> int:
+    from pathlib import Path
+
+    import numpy as np
+
+    if not args.out:
+        raise ValueError("animate writes its still and animation into a folder: give --out DIR")
+    if not 2 <= args.frames <= 720:
+        raise ValueError(f"--frames must be 2 to 720, got {args.frames}")
+    if not 10 <= args.dpi <= 300:
+        raise ValueError(f"--dpi must be 10 to 300, got {args.dpi}")
+    if not np.isfinite(args.angle):
+        raise ValueError(f"--angle must be a number of degrees, got {args.angle}")
+    design, speed, trace = _read_design(args.file)
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    stem = Path(args.file).stem
+    phi = design.turn_sign * np.deg2rad(args.angle)
+    ax = design.draw(phi, trace=trace)
+    still = out / f"{stem}.png"
+    ax.figure.savefig(still, dpi=120)
+    plt.close(ax.figure)
+    anim = design.animate(speed=speed, frames=args.frames, trace=trace, dpi=args.dpi)
+    moving = anim.save(out / f"{stem}.{args.format}")
+    data = {
+        "design": design.describe(),
+        "values": design.as_dict(),
+        "speed": speed,
+        "frames": anim.n_frames,
+        "playback": anim.playback,
+        "files": [str(still), str(moving)],
+    }
+    if args.json:
+        print(dumps(data))
+    else:
+        print(f"{design.describe()}")
+        print(f"{anim.n_frames} frames over one turn, {anim.playback}")
+        print("\nWritten:")
+        for f in data["files"]:
+            print(f"  {f}")
+    return 0
 
 
 # ------------------------------------------------------------------------------- main
@@ -297,14 +399,19 @@ def build_parser() -> argparse.ArgumentParser:
     _add_chart(sub)
     _add_optimize(sub)
     _add_pump_parser(sub)
+    _add_animate(sub)
     return parser
 
 
 def main(argv=None) -> int:
+    from . import display, progress
+
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
-        return int(args.func(args) or 0)
+        with display.display_units(getattr(args, "units", None) or "si"):
+            with progress.quiet(getattr(args, "quiet", False) or progress.is_quiet()):
+                return int(args.func(args) or 0)
     except (MechanismError, ValueError, SolverError, FileNotFoundError) as exc:
         print(f"mechsynth: error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT

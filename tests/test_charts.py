@@ -248,3 +248,30 @@ def test_four_bar_chart_masks_designs_whose_crank_cannot_turn():
     fb = ms.FourBar(1.0, coupler[i], rocker[j], 4.0)
     assert ch.values["swing"][i, j] == pytest.approx(fb.swing_angle, rel=1e-12)
     assert not np.isnan(ch.values["mu"].data).any()
+
+
+def test_chart_table_names_each_column_once_with_its_unit():
+    grid = {"rod": np.linspace(0.12, 0.3, 4), "offset": np.linspace(0.0, 0.05, 3)}
+    ch = sweep(
+        ms.SliderCrank,
+        grid,
+        {"p": ob.max_pressure_angle()},
+        fixed={"crank": 0.05},
+        angles=60,
+        progress=False,
+    )
+    head = ch.to_csv().splitlines()[0].split(",")
+    assert head == ["rod [m]", "offset [m]", "crank [m]", "feasible", "p [deg]"]
+    cols = ch.to_dict()
+    assert cols["p [deg]"][0] == pytest.approx(np.rad2deg(ch.values["p"][0, 0]))
+    with ms.display_units("mm-deg"):
+        assert "rod [mm]" in ch.to_dict()
+
+
+def test_best_design_on_the_grid_edge_is_flagged(tmp_path):
+    res = chart_slider_crank(tmp_path, {"n": "8", "n_angles": "60"})
+    best = res.data["best_on_grid"]
+    assert best["on_edge"] == {"rod/crank": "upper", "offset/crank": "upper"}
+    assert res.data["best_on_edge"] and "grid's edge" in res.summary
+    inner = chart_slider_crank(None, {"n": "9", "n_angles": "60", "rod_crank": "3:5"})
+    assert "grid's edge" not in inner.summary.split("WARNING")[0]

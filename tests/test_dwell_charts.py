@@ -35,3 +35,26 @@ def test_chart_cli_renders(tmp_path):
     assert len(rows) == 2 * 4 * 4
     with pytest.raises(ValueError, match="unknown chart option"):
         chart_dwell(None, {"bogus": "1"})
+
+
+def test_minimum_stroke_filters_the_longest_dwell():
+    r, k = np.linspace(0.05, 0.5, 6), np.array([0.5, 0.977, 1.5, 2.0, 2.5])
+    loose = dwell_chart_data(r, k, [0.0], 0.002, 90.0, 72, stroke=0.0)
+    firm = dwell_chart_data(r, k, [0.0], 0.002, 90.0, 72, stroke=0.3)
+    assert loose.best()["dwell_deg"] == pytest.approx(360.0)  # an output that hardly moves
+    assert loose.best()["S_max"] < 0.05
+    best = firm.best()
+    assert best["S_max"] >= 0.3 and best["dwell_deg"] < 360.0
+    ok = firm.S_max >= 0.3
+    assert best["dwell_deg"] == pytest.approx(firm.dwell_deg[ok].max())
+    assert dwell_chart_data(r, k, [20.0], 0.002, 90.0, 72, stroke=5.0).best() is None
+
+
+def test_dwell_chart_summary_is_a_sentence(tmp_path):
+    res = chart_dwell(None, {"n": "5", "gamma_deg": "20", "n_angles": "72", "stroke": "0.3"})
+    assert "Longest dwell:" in res.summary and "{" not in res.summary
+    assert res.data["best_on_grid"]["S_max"] >= 0.3
+    none = chart_dwell(None, {"n": "4", "gamma_deg": "0", "n_angles": "72", "stroke": "9"})
+    assert "lower --set stroke" in none.summary
+    with pytest.raises(ValueError, match="stroke"):
+        chart_dwell(None, {"n": "4", "stroke": "-1"})

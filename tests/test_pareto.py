@@ -100,7 +100,7 @@ def test_anchors_equal_the_single_objective_optima(slider_crank_front):
 def test_outputs(slider_crank_front, tmp_path):
     _, fr = slider_crank_front
     rows = list(csv.DictReader(fr.to_csv(tmp_path / "front.csv").open()))
-    assert len(rows) == 5 and {"crank", "rod", "offset"} <= set(rows[0])
+    assert len(rows) == 5 and {"crank [m]", "rod [m]", "offset [m]"} <= set(rows[0])
     assert float(rows[0]["peak_acceleration(slider) [m/s^2]"]) == pytest.approx(fr.first[0])
     fig = fr.plot()
     fig.savefig(tmp_path / "front.png", dpi=60)

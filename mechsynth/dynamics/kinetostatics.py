@@ -168,42 +168,82 @@ class ForceResult:
         i = int(np.argmax(r))
         return float(r[i]), float(np.asarray(self.phi)[i])
 
-    def plot(self, joints=None, ax=None, angle=None, label=""):
-        """Reaction magnitudes against the crank angle (deg). ``angle`` maps phi to the plotted
-        angle (default: degrees of phi)."""
-        import matplotlib
+    # -------------------------------------------------------------- tables
+    def _table(self):
+        from .. import tables
 
-        matplotlib.use("Agg")
+        def arr(x):
+            return tables.per_angle(x, self.phi)
+
+        cols = [("phi", "rad", arr(self.phi))]
+        for j, (fx, fy) in self.reactions.items():
+            cols += [
+                (f"{j} x", "N", arr(fx)),
+                (f"{j} y", "N", arr(fy)),
+                (f"{j} magnitude", "N", arr(self.magnitude(j))),
+            ]
+        for j, (n, m) in self.normals.items():
+            cols += [(f"{j} normal force", "N", arr(n)), (f"{j} moment", "N m", arr(m))]
+        cols.append(("balancing torque", "N m", arr(self.torque)))
+        return tables.table(cols)
+
+    def to_dict(self) -> dict[str, list]:
+        """Columns ``{"name [unit]": values}`` in display units: the crank angle ``phi``, each
+        joint's reaction x, y and magnitude, each sliding pair's normal force and moment, the
+        balancing torque."""
+        from .. import tables
+
+        return tables.as_lists(self._table())
+
+    def to_csv(self, path=None):
+        """The columns of :meth:`to_dict` as CSV, one row per crank angle: written to ``path``
+        (returns the path) or returned as text when ``path`` is None."""
+        from .. import tables
+
+        return tables.write_csv(self._table(), path)
+
+    # -------------------------------------------------------------- figures
+    def plot(self, joints=None, ax=None, angle=None, label="", unit=None, xlabel=None):
+        """Reaction magnitudes against the crank angle. ``angle`` maps phi to the plotted angle
+        in deg (default: degrees of phi); ``unit`` ``(divisor, name)`` of the force axis
+        (default: kN for large forces, else the display force unit). Returns the figure."""
         import matplotlib.pyplot as plt
 
+        from ..plotting import LINESTYLES, force_unit
+
         if ax is None:
-            _, ax = plt.subplots(figsize=(7, 4), constrained_layout=True)
+            _, ax = plt.subplots(figsize=(7, 4), layout="constrained")
+        joints = list(joints or self.reactions)
+        mags = {j: np.asarray(self.magnitude(j), dtype=float) for j in joints}
+        div, name = unit or force_unit(np.concatenate(list(mags.values())))
         x = np.rad2deg(np.asarray(self.phi)) if angle is None else angle(self.phi)
-        for j in joints or self.reactions:
-            ax.plot(x, self.magnitude(j), label=f"{j}{label}")
-        ax.set_xlabel("crank angle, deg")
-        ax.set_ylabel("reaction, N")
-        ax.grid(True, alpha=0.4)
+        for i, j in enumerate(joints):
+            ax.plot(x, mags[j] / div, ls=LINESTYLES[i % len(LINESTYLES)], label=f"{j}{label}")
+        ax.set_xlabel(xlabel or "crank angle, deg")
+        ax.set_ylabel(f"reaction magnitude, {name}")
+        ax.grid(True, alpha=0.35, ls=":")
         ax.legend()
         return ax.figure
 
-    def hodograph(self, joint: str, ax=None, label=None):
-        """Polar diagram (hodograph) of the reaction vector at ``joint``."""
-        import matplotlib
-
-        matplotlib.use("Agg")
+    def hodograph(self, joint: str, ax=None, label=None, unit=None, **style):
+        """Hodograph of the reaction vector at ``joint`` (its tip over the cycle), equal axes
+        fitted to the curve; ``unit`` ``(divisor, name)`` (default: kN for large forces).
+        Returns the figure."""
         import matplotlib.pyplot as plt
 
+        from ..plotting import force_unit
+
         if ax is None:
-            _, ax = plt.subplots(figsize=(5, 5), constrained_layout=True)
-        fx, fy = self.reactions[joint]
-        ax.plot(fx, fy, label=label or joint)
-        ax.plot([0], [0], "k+")
-        ax.set_aspect("equal", adjustable="datalim")
-        ax.set_xlabel(f"{joint} x, N")
-        ax.set_ylabel(f"{joint} y, N")
-        ax.grid(True, alpha=0.4)
-        ax.legend()
+            _, ax = plt.subplots(figsize=(6, 4), layout="constrained")
+        fx, fy = (np.asarray(c, dtype=float) for c in self.reactions[joint])
+        div, name = unit or force_unit(np.hypot(fx, fy))
+        x, y = np.append(fx, fx[:1]) / div, np.append(fy, fy[:1]) / div
+        ax.plot(x, y, label=label or joint, **style)
+        ax.plot([0], [0], "k+", ms=8)
+        ax.set_aspect("equal", adjustable="box")
+        ax.set_xlabel(f"{joint} x, {name}")
+        ax.set_ylabel(f"{joint} y, {name}")
+        ax.grid(True, alpha=0.35, ls=":")
         return ax.figure
 
 

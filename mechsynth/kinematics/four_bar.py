@@ -20,7 +20,7 @@ import numpy as np
 
 from . import ops
 from .blocks import coupler_point, crank_pin, dyad_rrr
-from .mechanism import Mechanism, check_length, fail_where, speed_pair
+from .mechanism import Mechanism, as_angles, check_length, fail_where, speed_pair
 from .tracks import Jet, LinkTrack, Motion, PointJet, PointTrack
 
 __all__ = ["FourBar", "Grashof", "grashof", "four_bar_chain"]
@@ -200,6 +200,7 @@ class FourBar(Mechanism):
     # ---------------------------------------------------------------- kinematics
     def jets(self, phi):
         """Jets of A and B and angle jets of coupler and rocker."""
+        phi = as_angles(phi)
         return four_bar_chain(
             ops.cos(phi),
             ops.sin(phi),
@@ -228,6 +229,7 @@ class FourBar(Mechanism):
         ``"crank"``, ``"coupler"``, ``"rocker"``, and the transmission and pressure angles.
         """
         omega, eps = speed_pair(speed, epsilon)
+        phi = as_angles(phi)
         a, b, coupler, rocker = self.jets(phi)
         crank_jet = Jet(phi + 0.0 * a.x, 1.0 + 0.0 * a.x, 0.0 * a.x)
         o1 = PointJet.fixed(0.0 * a.x, 0.0 * a.x)
@@ -248,6 +250,26 @@ class FourBar(Mechanism):
             },
             pressure_angle=ops.fabs(np.pi / 2 - mu),
             transmission_angle=mu,
+        )
+
+    def sketch(self, phi, coupler_points=None):
+        """Drawing description at crank angles ``phi``: crank O1A, coupler AB (a plate with its
+        coupler points), rocker O2B, pivots O1 and O2."""
+        from .sketch import Bar, Sketch, as_frames
+
+        m = self.motion(phi, coupler_points=coupler_points)
+        extra = tuple(coupler_points or ())
+        return Sketch(
+            points=as_frames(m.points),
+            bars=(
+                Bar("crank", ("O1", "A")),
+                Bar("coupler", ("A", "B", *extra), closed=bool(extra)),
+                Bar("rocker", ("O2", "B")),
+            ),
+            ground=("O1", "O2"),
+            angles=phi,
+            angle_label="crank angle φ",
+            name=self.describe(),
         )
 
     def coupler_jet(self, phi, u, v) -> PointJet:

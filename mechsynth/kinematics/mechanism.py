@@ -17,7 +17,14 @@ from ..errors import MechanismError
 from . import ops
 from .tracks import Motion
 
-__all__ = ["Mechanism", "check_length", "check_finite", "speed_pair", "fail_where"]
+__all__ = [
+    "Mechanism",
+    "check_length",
+    "check_finite",
+    "speed_pair",
+    "fail_where",
+    "as_angles",
+]
 
 
 def _first_bad(arr, bad):
@@ -52,6 +59,18 @@ def check_length(name: str, value):
         v, at = _first_bad(arr, bad)
         raise ValueError(f"{name} must be positive (a length in m), got {v}{at}")
     return value
+
+
+def as_angles(phi):
+    """Crank angles as a float array (or number, or CasADi expression): any array-like works,
+    a list, a tuple, a ``range``."""
+    if ops.is_symbolic(phi) or isinstance(phi, (float, np.ndarray)):
+        return phi
+    try:
+        arr = np.asarray(phi, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"crank angles must be numbers (rad), got {phi!r}") from exc
+    return float(arr) if arr.ndim == 0 else arr
 
 
 def speed_pair(speed, epsilon):
@@ -97,6 +116,14 @@ class Mechanism:
     parameters: ClassVar[tuple[str, ...]] = ()
     #: main output for objectives that name none ("slider" or a point name)
     default_output: ClassVar[str] = "slider"
+    #: SI unit of each parameter for reports ("m" for the ones not listed)
+    parameter_units: ClassVar[dict[str, str]] = {}
+    #: +1 when the machine runs with increasing crank angle, -1 when the other way
+    turn_sign: ClassVar[int] = 1
+    #: points whose paths drawings and animations trace by default
+    trace_points: ClassVar[tuple[str, ...]] = ()
+    #: what reports and figures call the main slider ("polished rod" on a pumping unit)
+    output_label: ClassVar[str] = "slider"
 
     def motion(self, phi, speed=None, epsilon=0.0, **kwargs) -> Motion:  # pragma: no cover
         raise NotImplementedError
@@ -109,6 +136,134 @@ class Mechanism:
         """The parameters as a dict ``{name: value}``."""
         return {name: getattr(self, name) for name in self.parameters}
 
+    def as_dict(self) -> dict[str, Any]:
+        """Every field of the design as plain Python values (floats, strings, booleans): enough
+        to build it again with ``type(design)(**design.as_dict())``."""
+        out = {}
+        for f in dataclasses.fields(self):
+            v = getattr(self, f.name)
+            if isinstance(v, (bool, str)) or v is None:
+                out[f.name] = v
+            elif isinstance(v, (int, np.integer)):
+                out[f.name] = int(v)
+            elif isinstance(v, (float, np.floating)) or (isinstance(v, np.ndarray) and v.size == 1):
+                out[f.name] = float(v)
+            else:
+                out[f.name] = v
+        return out
+
     @property
     def is_symbolic(self) -> bool:
         return ops.is_symbolic(*self.params().values())
+
+    @classmethod
+    def parameter_unit(cls, name: str) -> str:
+        """SI unit of the parameter ``name`` (for reports and tables)."""
+        return cls.parameter_units.get(name, "m")
+
+    def describe(self) -> str:
+        """The design in one line, in display units: ``"SliderCrank: crank 70 mm, rod 240 mm,
+        offset 10 mm"``."""
+        from .. import display
+
+        name = type(self).__name__
+        if self.is_symbolic:
+            return f"{name} (symbolic)"
+        if any(np.size(v) > 1 for v in self.params().values()):
+            return f"{name} (a batch of designs)"
+        parts = [
+            f"{k} {display.fmt(v, self.parameter_unit(k), 4)}" for k, v in self.params().items()
+        ]
+        return f"{name}: " + ", ".join(parts)
+
+    # ---------------------------------------------------------------- drawing
+    def turn(self, n: int = 48):
+        """``n`` crank angles over one turn in the machine's direction of rotation, from 0."""
+        from ..units import cycle
+
+        return self.turn_sign * cycle(n)
+
+    def sketch(self, phi, **options):
+        """What the mechanism looks like at crank angles ``phi``: a
+        :class:`~mechsynth.kinematics.sketch.Sketch` for the generic renderer."""
+        raise NotImplementedError(f"{type(self).__name__} does not describe its drawing yet")
+
+    def _drawing_sketch(self, phi, n, options):
+        """The sketch for ``draw``: the angle asked first, then a turn (for guides and paths);
+        the asked angle alone when the mechanism cannot make the turn."""
+        from ..errors import MechanismError
+
+        phi = as_angles(phi)
+        if np.ndim(phi):
+            raise ValueError(f"draw takes one crank angle (rad), got shape {np.shape(phi)}")
+        try:
+            return self.sketch(np.concatenate([[phi], phi + self.turn(n)]), **options)
+        except MechanismError:
+            return self.sketch(np.array([phi]), **options)
+
+    def draw(
+        self,
+        phi=0.0,
+        ax=None,
+        *,
+        trace=None,
+        color=None,
+        alpha: float = 1.0,
+        labels: bool = True,
+        title=None,
+        **options,
+    ):
+        """Draw the mechanism at crank angle ``phi`` (rad, the mechanism's convention).
+
+        Links, joints, frame pivots with hatching, guides over the slider travel and the paths
+        of the points in ``trace`` (default: the mechanism's ``trace_points``; ``()`` for none)
+        over a turn, in display length units. ``options`` go to :meth:`sketch` (e.g.
+        ``coupler_points``). ``title``: None titles a new axes with the design and the angle.
+        Returns the matplotlib axes.
+        """
+        from .drawing import draw_sketch
+
+        sk = self._drawing_sketch(phi, 180, options)
+        trace = self.trace_points if trace is None else tuple(trace)
+        return draw_sketch(
+            sk, 0, ax, trace=trace, color=color, alpha=alpha, labels=labels, title=title
+        )
+
+    def animate(
+        self,
+        angles=None,
+        speed=None,
+        *,
+        frames: int = 48,
+        trace=None,
+        duration=None,
+        figsize=None,
+        dpi: int = 80,
+        title: str | None = None,
+        **options,
+    ):
+        """Animate the mechanism over ``angles`` (rad; default: ``frames`` angles over one turn
+        in the machine's direction).
+
+        ``speed`` (rad/s): the machine's crank speed; the title then shows the time, and the
+        playback runs in real time when that lasts 1-20 s, else at about 3 s per turn (the
+        title says how much slower). Returns a :class:`~mechsynth.kinematics.drawing.
+        MechanismAnimation` (a matplotlib ``FuncAnimation``): ``.save("x.gif")`` (pillow),
+        ``.save("x.mp4")`` (ffmpeg), ``.to_html()`` for notebooks.
+        """
+        from .drawing import animate_sketch
+
+        angles = self.turn(int(frames)) if angles is None else np.atleast_1d(as_angles(angles))
+        if np.asarray(angles).size < 2:
+            raise ValueError("animate needs at least two crank angles")
+        sk = self.sketch(np.asarray(angles, dtype=float), **options)
+        trace = self.trace_points if trace is None else tuple(trace)
+        return animate_sketch(
+            sk,
+            speed=speed,
+            trace=trace,
+            duration=duration,
+            figsize=figsize,
+            dpi=dpi,
+            title=title,
+        )

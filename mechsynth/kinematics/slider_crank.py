@@ -17,7 +17,14 @@ import numpy as np
 
 from . import ops
 from .blocks import coupler_point, crank_pin, dyad_rrp
-from .mechanism import Mechanism, check_finite, check_length, fail_where, speed_pair
+from .mechanism import (
+    Mechanism,
+    as_angles,
+    check_finite,
+    check_length,
+    fail_where,
+    speed_pair,
+)
 from .tracks import Jet, LinkTrack, Motion, PointJet, PointTrack, SliderTrack
 
 __all__ = ["SliderCrank", "slider_crank_chain"]
@@ -93,6 +100,7 @@ class SliderCrank(Mechanism):
     # ---------------------------------------------------------------- kinematics
     def jets(self, phi):
         """Jets of the crank pin A, the slider B, the slider position and the rod angle."""
+        phi = as_angles(phi)
         return slider_crank_chain(
             ops.cos(phi), ops.sin(phi), self.crank, self.rod, self.offset, phi
         )
@@ -115,6 +123,7 @@ class SliderCrank(Mechanism):
         angles.
         """
         omega, eps = speed_pair(speed, epsilon)
+        phi = as_angles(phi)
         a, b, s, rod = self.jets(phi)
         crank_jet = Jet(phi + 0.0 * self.crank, 1.0 + 0.0 * a.x, 0.0 * a.x)
         points = {"O": PointJet.fixed(0.0 * a.x, 0.0 * a.x), "A": a, "B": b}
@@ -133,6 +142,23 @@ class SliderCrank(Mechanism):
             sliders={"B": SliderTrack.from_jet(s, omega, eps)},
             pressure_angle=pressure,
             transmission_angle=np.pi / 2 - pressure,
+        )
+
+    def sketch(self, phi, coupler_points=None):
+        """Drawing description at crank angles ``phi``: crank OA, rod AB (a plate with its
+        coupler points), slider B on its guide ``y = offset``."""
+        from .sketch import Bar, Sketch, Slider, as_frames
+
+        m = self.motion(phi, coupler_points=coupler_points)
+        extra = tuple(coupler_points or ())
+        return Sketch(
+            points=as_frames(m.points),
+            bars=(Bar("crank", ("O", "A")), Bar("rod", ("A", "B", *extra), closed=bool(extra))),
+            ground=("O",),
+            sliders=(Slider("B", 0.0),),
+            angles=phi,
+            angle_label="crank angle φ",
+            name=self.describe(),
         )
 
     def coupler_jet(self, phi, u, v) -> PointJet:

@@ -14,7 +14,9 @@ All fields are numpy arrays broadcast over (designs..., angles) or CasADi expres
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, NamedTuple
+from typing import Any, ClassVar, NamedTuple
+
+import numpy as np
 
 from . import ops
 
@@ -163,35 +165,164 @@ class Motion:
         """True when velocities are crank-angle analogs (no speed was given)."""
         return isinstance(self.omega, float) and self.omega == 1.0 and self.epsilon == 0.0
 
-    def plot(self, quantities=("slider",), ax=None):
-        """Plot position, velocity and acceleration of sliders/points against the crank angle.
+    # ---------------------------------------------------------------- tables
+    #: SI units of the per-angle ``extra`` quantities a mechanism adds (``{name: unit}``)
+    extra_units: ClassVar[dict[str, str]] = {}
 
-        ``quantities`` names sliders or points; returns the matplotlib figure.
+    def _units(self):
+        """(length rate, length acceleration, angle rate, angle acceleration) units."""
+        if self.is_analog:
+            return "m/rad", "m/rad^2", "rad/rad", "rad/rad^2"
+        return "m/s", "m/s^2", "rad/s", "rad/s^2"
+
+    def _table(self):
+        from .. import tables
+
+        v, a, w, e = self._units()
+
+        def arr(x):
+            return tables.per_angle(x, self.phi)
+
+        cols = [("phi", "rad", arr(self.phi))]
+        for name, p in self.points.items():
+            for comp, unit, val in (
+                ("x", "m", p.x),
+                ("y", "m", p.y),
+                ("vx", v, p.vx),
+                ("vy", v, p.vy),
+                ("ax", a, p.ax),
+                ("ay", a, p.ay),
+            ):
+                cols.append((f"{name} {comp}", unit, arr(val)))
+        for name, sl in self.sliders.items():
+            cols += [
+                (f"slider {name} position", "m", arr(sl.position)),
+                (f"slider {name} velocity", v, arr(sl.velocity)),
+                (f"slider {name} acceleration", a, arr(sl.acceleration)),
+            ]
+        for name, lk in self.links.items():
+            cols += [
+                (f"link {name} angle", "rad", arr(lk.angle)),
+                (f"link {name} omega", w, arr(lk.omega)),
+                (f"link {name} epsilon", e, arr(lk.epsilon)),
+            ]
+        cols.append(("pressure angle", "rad", arr(self.pressure_angle)))
+        if self.transmission_angle is not None:
+            cols.append(("transmission angle", "rad", arr(self.transmission_angle)))
+        for name, val in self.extra.items():
+            if np.shape(val) == np.shape(self.phi):
+                cols.append((name, self.extra_units.get(name, ""), arr(val)))
+        return tables.table(cols)
+
+    def to_dict(self) -> dict[str, list]:
+        """The motion as columns ``{"name [unit]": values}`` in display units (one design): the
+        crank angle ``phi``, every point's x, y, vx, vy, ax, ay, every slider's position,
+        velocity and acceleration, every link's angle, omega and epsilon, the pressure and
+        transmission angles. Velocities are analogs (per rad) when the motion has no speed."""
+        from .. import tables
+
+        return tables.as_lists(self._table())
+
+    def to_csv(self, path=None):
+        """The columns of :meth:`to_dict` as CSV, one row per crank angle: written to ``path``
+        (returns the path) or returned as text when ``path`` is None."""
+        from .. import tables
+
+        return tables.write_csv(self._table(), path)
+
+    # ---------------------------------------------------------------- figure
+    def main_output(self) -> str:
+        """What :meth:`plot` draws by default: the first slider, else the last link (a rocker,
+        a beam), else the last point."""
+        if self.sliders:
+            return next(iter(self.sliders))
+        if len(self.links) > 1:
+            return list(self.links)[-1]
+        return list(self.points)[-1]
+
+    def plot(self, quantities=None, ax=None, title=None):
+        """Position, velocity and acceleration against the crank angle, in display units.
+
+        ``quantities`` names sliders (``"slider"`` is the main one), links (angle, angular
+        velocity and acceleration) or points (x and y, then the magnitudes |v| and |a|);
+        default: :meth:`main_output`. ``ax``: three axes to draw into. Returns the figure.
         """
         import matplotlib.pyplot as plt
-        import numpy as np
 
+        from .. import display
+        from ..plotting import crank_axis, speed_text
+
+        if quantities is None:
+            quantities = (self.main_output(),)
+        elif isinstance(quantities, str):
+            quantities = (quantities,)
         if ax is None:
-            fig, axes = plt.subplots(3, 1, sharex=True, figsize=(7, 7), constrained_layout=True)
+            fig, axes = plt.subplots(3, 1, sharex=True, figsize=(7, 7), layout="constrained")
         else:
             axes = ax
             fig = axes[0].figure
-        x = np.rad2deg(np.asarray(self.phi))
-        v_unit, a_unit = ("m/rad", "m/rad²") if self.is_analog else ("m/s", "m/s²")
+        phi = np.asarray(self.phi, dtype=float)
+        x = np.rad2deg(phi)
+        v, a, w, e = self._units()
+        heads = []
+        units: list[set] = [set(), set(), set()]
         for name in quantities:
             if name == "slider" or name in self.sliders:
-                tr = self.slider if name == "slider" else self.sliders[name]
-                series = (tr.position, tr.velocity, tr.acceleration)
-            else:
+                if not self.sliders:
+                    raise ValueError(
+                        "this mechanism has no slider; plot a link "
+                        f"({', '.join(self.links)}) or a point ({', '.join(self.points)})"
+                    )
+                key = next(iter(self.sliders)) if name == "slider" else name
+                tr = self.sliders[key]
+                series = [
+                    [(f"slider {key}", "m", tr.position)],
+                    [(f"slider {key}", v, tr.velocity)],
+                    [(f"slider {key}", a, tr.acceleration)],
+                ]
+                heads.append(("position", "velocity", "acceleration"))
+            elif name in self.links:
+                tr = self.links[name]
+                series = [
+                    [(f"{name} angle", "rad", np.unwrap(np.asarray(tr.angle, dtype=float)))],
+                    [(f"{name} ω", w, tr.omega)],
+                    [(f"{name} ε", e, tr.epsilon)],
+                ]
+                heads.append(("angle", "angular velocity", "angular acceleration"))
+            elif name in self.points:
                 p = self.points[name]
-                series = (p.x, p.velocity, p.acceleration)
-            for axis, y in zip(axes, series):
-                axis.plot(x, np.asarray(y).T, label=name)
-        axes[0].set_ylabel("position, m")
-        axes[1].set_ylabel(f"velocity, {v_unit}")
-        axes[2].set_ylabel(f"acceleration, {a_unit}")
-        axes[2].set_xlabel("crank angle, deg")
-        for axis in axes:
-            axis.grid(True, alpha=0.4)
-        axes[0].legend()
+                series = [
+                    [(f"{name} x", "m", p.x), (f"{name} y", "m", p.y)],
+                    [(f"|v {name}|", v, p.velocity)],
+                    [(f"|a {name}|", a, p.acceleration)],
+                ]
+                heads.append(("position", "speed |v|", "acceleration |a|"))
+            else:
+                known = [*self.sliders, *self.links, *self.points]
+                raise ValueError(f"unknown quantity {name!r}; this motion has {', '.join(known)}")
+            for k, (axis, items) in enumerate(zip(axes, series)):
+                for i, (label, unit, y) in enumerate(items):
+                    yv, shown = display.convert(np.asarray(y, dtype=float), unit)
+                    style = "-" if i == 0 else "--"
+                    axis.plot(x, np.asarray(yv).T, style, label=f"{label}, {shown}")
+                    units[k].add(shown)
+        for k, axis in enumerate(axes):
+            names = {h[k] for h in heads}
+            head = names.pop() if len(names) == 1 else ("value", "rate", "second rate")[k]
+            shown = units[k].pop() if len(units[k]) == 1 else "units in the legend"
+            axis.set_ylabel(f"{head}, {shown}")
+            axis.grid(True, alpha=0.35, ls=":")
+            axis.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
+        span = float(np.ptp(x)) if x.size > 1 else 0.0
+        if 300.0 <= span <= 360.0 and x.min() >= -1e-9:
+            crank_axis(axes[2], start=0.0, span=360.0)
+        else:
+            axes[2].set_xlabel("crank angle, deg")
+        if self.is_analog:
+            speed = speed_text(None)
+        elif np.ndim(self.omega):
+            speed = "crank speed varying over the cycle"
+        else:
+            speed = speed_text(self.omega)
+        axes[0].set_title(title or f"motion of {', '.join(quantities)}: {speed}")
         return fig

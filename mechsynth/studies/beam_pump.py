@@ -37,6 +37,7 @@ from ..machines.pumping_unit import (
     torque_factor_table,
 )
 from ..objectives import max_pressure_angle, peak_acceleration, stroke
+from ..progress import Stages
 from ..units import cycle, deg, spm
 from . import StudyResult
 
@@ -212,25 +213,24 @@ def pareto(base, n=7, starts=3, anchor_starts=4):
     )
 
 
-def _active_bounds(res, rtol=1e-6):
-    """Names of the variables that ended on a bound of their box."""
-    if res.design is None:
-        return []
-    out = []
-    for name, (lo, hi) in synthesis_problem_bounds().items():
-        v = float(getattr(res.design, name))
-        tol = rtol * (hi - lo)
-        if abs(v - lo) <= tol or abs(v - hi) <= tol:
-            out.append(name)
-    return out
-
-
-def synthesis_problem_bounds():
-    return dict(SYNTHESIS_BOUNDS)
-
-
 # ------------------------------------------------------------------------------ run
+STAGES = (
+    "variants and the paper's findings",
+    "synthesis (IPOPT and differential evolution)",
+    "Pareto front",
+    "figures, tables, animation",
+)
+
+
 def run(out=None, n_angles=721, pareto_points=7, starts=3):
+    """Run the study (see the module notes); ``n_angles`` crank angles of the curves,
+    ``pareto_points`` points on the front, ``starts`` multi-starts of the synthesis."""
+    with Stages("beam-pump", STAGES if out is not None else STAGES[:-1]) as stages:
+        return _run(out, n_angles, pareto_points, starts, stages)
+
+
+def _run(out, n_angles, pareto_points, starts, stages):
+    stages.next(STAGES[0])
     theta = cycle(n_angles - 1)
     base = base_design()
     fit = base["fit"]
@@ -312,7 +312,8 @@ def run(out=None, n_angles=721, pareto_points=7, starts=3):
             "falls while the downstroke one rises."
         )
 
-    # synthesis and Pareto front (epsilon-constraint loop; no shared Pareto helper yet)
+    # synthesis and Pareto front
+    stages.next(STAGES[1])
     best = synthesis_problem(base).solve(starts=starts, progress=False)
     # global cross-check: differential evolution over the same box, polished and certified
     de = synthesis_problem(base).solve(method="de", seed=1, progress=False)
@@ -322,6 +323,7 @@ def run(out=None, n_angles=721, pareto_points=7, starts=3):
         both = {r: d.replace(rotation=r) for r in ("ccw", "cw")}
         rot = max(both, key=lambda r: float(both[r].upstroke_span))
         best_design = both[rot]
+    stages.next(STAGES[2])
     front = pareto(base, n=pareto_points, starts=starts)
 
     data = {
@@ -345,7 +347,7 @@ def run(out=None, n_angles=721, pareto_points=7, starts=3):
             "upstroke_span_deg": None
             if best_design is None
             else float(np.rad2deg(best_design.upstroke_span)),
-            "active_bounds": _active_bounds(best),
+            "active_bounds": list(best.on_bounds()),
             "de_cross_check": {"status": de.status, "success": bool(de.success), "value": de.value},
         },
         "pareto": {
@@ -357,7 +359,8 @@ def run(out=None, n_angles=721, pareto_points=7, starts=3):
 
     files = []
     if out is not None:
-        files = _write(Path(out), theta, w, units, card, table, front, data)
+        stages.next(STAGES[3])
+        files = _write(Path(out), theta, w, units, card, table, front, data, best_design)
     summary = _summary(base, fit, table, printed_table, findings, best, best_design, front)
     syn = data["synthesis"]
     summary += (
@@ -369,6 +372,8 @@ def run(out=None, n_angles=721, pareto_points=7, starts=3):
 
 
 def _summary(base, fit, table, printed, findings, best, best_design, front):
+    from ..display import fmt
+
     lines = [
         "Paper 000: one-armed (Mark II-type) beam pumping unit, axial vs desaxial",
         f"base beam (fitted to the printed r, l by eqs. 2-3): k = {base['k']:.4f} m, "
@@ -406,10 +411,11 @@ def _summary(base, fit, table, printed, findings, best, best_design, front):
     lines.append(f"\nsynthesis: {best.status}; {best.message}")
     if best_design is not None:
         lines.append(
-            f"  crank {best_design.crank:.4f} m, pitman {best_design.pitman:.4f} m, X_O2 "
-            f"{-best_design.pivot_x:.4f} m, Y_O2 {best_design.pivot_y:.4f} m, rotation "
-            f"{best_design.rotation}, upstroke {np.rad2deg(best_design.upstroke_span):.2f} deg, "
-            f"peak acceleration {best.value:.4f} m/s^2"
+            f"  crank {fmt(best_design.crank, 'm', 5)}, pitman {fmt(best_design.pitman, 'm', 5)}, "
+            f"X_O2 {fmt(-best_design.pivot_x, 'm', 5)}, Y_O2 {fmt(best_design.pivot_y, 'm', 5)}, "
+            f"rotation {best_design.rotation}, upstroke "
+            f"{fmt(best_design.upstroke_span, 'rad', 5)}, peak acceleration "
+            f"{fmt(best.value, 'm/s^2', 5)}"
         )
     lines.append(
         "Pareto front (epsilon-constraint on the pressure angle; * non-dominated): "
@@ -426,68 +432,128 @@ def _summary(base, fit, table, printed, findings, best, best_design, front):
     return "\n".join(lines)
 
 
-def _write(out, theta, w, units, card, table, front, data):
+THETA_LABEL = "crank angle θ from 12 o'clock in the direction of rotation"
+
+
+def _write(out, theta, w, units, card, table, front, data, best_design=None):
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from .. import display
     from ..jsonutil import dumps
+    from ..plotting import LINESTYLES, PALETTE, crank_axis, style, torque_unit
+    from ..plotting import save as save_figure
 
     files = []
+
+    def save(fig, name):
+        files.append(save_figure(fig, out / name, dpi=110))
+
     x = np.rad2deg(theta)
-    fig, axes = plt.subplots(3, 1, sharex=True, figsize=(7, 8), constrained_layout=True)
-    for name, u in units.items():
-        m = u.motion(theta, speed=w)
-        axes[0].plot(x, m.polished_rod.position, label=name)
-        axes[1].plot(x, m.polished_rod.velocity, label=name)
-        axes[2].plot(x, m.polished_rod.acceleration, label=name)
-    for a, lab in zip(axes, ("position, m", "velocity, m/s", "acceleration, m/s²")):
-        a.set_ylabel(lab)
-        a.grid(True, alpha=0.4)
-    axes[0].set_title(f"Polished rod at {SPEED_SPM:g} SPM (paper 000, Fig. 3)")
-    axes[2].set_xlabel("crank angle from 12 o'clock, deg")
-    axes[0].legend()
-    files.append(out / "beam_pump_kinematics.png")
-    fig.savefig(files[-1], dpi=110)
-    plt.close(fig)
+    colours = dict(zip(units, (PALETTE[4], PALETTE[5], PALETTE[3])))
+    styles = dict(zip(units, LINESTYLES))
+    names = {"axial": "axial", "2a": "desaxial 2a", "2b": "desaxial 2b"}
+    with style():
+        fig, axes = plt.subplots(3, 1, sharex=True, figsize=(7.5, 8.5), layout="constrained")
+        for name, u in units.items():
+            m = u.motion(theta, speed=w)
+            kw = dict(color=colours[name], ls=styles[name], label=names.get(name, name))
+            for ax, (y, unit) in zip(
+                axes,
+                (
+                    (m.polished_rod.position, "m"),
+                    (m.polished_rod.velocity, "m/s"),
+                    (m.polished_rod.acceleration, "m/s^2"),
+                ),
+            ):
+                ax.plot(x, display.convert(np.asarray(y), unit)[0], **kw)
+        for a, (lab, unit) in zip(
+            axes,
+            (("position up from the bottom", "m"), ("velocity", "m/s"), ("acceleration", "m/s^2")),
+        ):
+            a.set_ylabel(display.label(lab, unit))
+        axes[0].set_title(
+            f"Polished rod of the axial and desaxial units at {SPEED_SPM:g} SPM, same stroke "
+            "(paper 000, Fig. 3)",
+            fontsize=9,
+        )
+        crank_axis(axes[2], THETA_LABEL)
+        handles, labels = axes[0].get_legend_handles_labels()
+        fig.legend(handles, labels, loc="outside lower center", ncol=3)
+        save(fig, "beam_pump_kinematics.png")
 
-    fig, ax = plt.subplots(figsize=(7, 4), constrained_layout=True)
-    for i, (name, u) in enumerate(units.items()):
-        tc = torque_curve(u, theta, card)
-        cb = optimal_counterbalance(theta, tc.well, free_phase=True, cross_check=False)
-        net = tc.well - cb.counterbalance.torque(theta)
-        ax.plot(x, net / 1e3, color=f"C{i}", label=f"{name} net")
-        ax.plot(x, tc.well / 1e3, "--", color=f"C{i}", lw=0.8, label=f"{name} no counterbalance")
-    ax.set_xlabel("crank angle, deg")
-    ax.set_ylabel("crank torque, kN m")
-    ax.set_title("Crank torque, rectangular card 80/45 kN, optimal counterbalance (Fig. 4)")
-    ax.grid(True, alpha=0.4)
-    ax.legend(fontsize=7)
-    files.append(out / "beam_pump_torque.png")
-    fig.savefig(files[-1], dpi=110)
-    plt.close(fig)
+        fig, ax = plt.subplots(figsize=(8, 5), layout="constrained")
+        curves = {}
+        for name, u in units.items():
+            tc = torque_curve(u, theta, card)
+            cb = optimal_counterbalance(theta, tc.well, free_phase=True, cross_check=False)
+            curves[name] = (tc.well - cb.counterbalance.torque(theta), tc.well)
+        div, tunit = torque_unit(np.concatenate([c[1] for c in curves.values()]))
+        for name, (net, well) in curves.items():
+            c = colours[name]
+            ax.plot(
+                x, net / div, color=c, lw=2.0, label=f"{names[name]}: net, optimal counterbalance"
+            )
+            ax.plot(
+                x, well / div, color=c, ls=":", lw=1.1, label=f"{names[name]}: no counterbalance"
+            )
+        ax.axhline(0.0, color="0.3", lw=0.7)
+        ax.set_ylabel(f"crank torque, {tunit}")
+        ax.set_title(
+            f"Crank torque at {SPEED_SPM:g} SPM, idealized rectangular card "
+            f"{CARD_UP / 1e3:g}/{CARD_DOWN / 1e3:g} kN (paper 000, Fig. 4)",
+            fontsize=9,
+        )
+        crank_axis(ax, THETA_LABEL)
+        fig.legend(loc="outside lower center", ncol=2)
+        save(fig, "beam_pump_torque.png")
 
-    fig, ax = plt.subplots(figsize=(7, 4), constrained_layout=True)
-    for name, u in units.items():
-        ax.plot(x, np.rad2deg(u.motion(theta).pressure_angle), label=name)
-    ax.set_xlabel("crank angle, deg")
-    ax.set_ylabel("pressure angle, deg")
-    ax.set_title("Pressure angle between pitman and the velocity of B (Fig. 5)")
-    ax.grid(True, alpha=0.4)
-    ax.legend()
-    files.append(out / "beam_pump_pressure_angle.png")
-    fig.savefig(files[-1], dpi=110)
-    plt.close(fig)
+        fig, ax = plt.subplots(figsize=(8, 4.8), layout="constrained")
+        for name, u in units.items():
+            pa = display.convert(np.asarray(u.motion(theta).pressure_angle), "rad")[0]
+            ax.plot(x, pa, color=colours[name], ls=styles[name], label=names[name])
+        ax.axhline(
+            display.convert(np.deg2rad(PRESSURE_LIMIT_DEG), "rad")[0],
+            color="0.3",
+            lw=0.8,
+            ls="--",
+            label=f"{PRESSURE_LIMIT_DEG:g} deg (the synthesis limit)",
+        )
+        ax.set_ylabel(display.label("pressure angle at the equalizer bearing B", "rad"))
+        ax.set_title(
+            "Pressure angle between the pitman force and the velocity of B (paper 000, Fig. 5)",
+            fontsize=9,
+        )
+        crank_axis(ax, THETA_LABEL)
+        fig.legend(loc="outside lower center", ncol=4)
+        save(fig, "beam_pump_pressure_angle.png")
 
-    fig = front.plot(title="Pareto front, same stroke and beam (paper 000, recommendation 2)")
-    ax = fig.axes[0]
-    for name, t in table.items():
-        ax.plot(t["max_pressure_angle_deg"], t["peak_acceleration"], "D", label=f"paper: {name}")
-    ax.legend(fontsize=8)
-    files.append(out / "beam_pump_pareto.png")
-    fig.savefig(files[-1], dpi=110)
-    plt.close(fig)
+        fig = front.plot(
+            title=f"Pareto front at {SPEED_SPM:g} SPM, same stroke and beam "
+            "(paper 000, recommendation 2)"
+        )
+        ax = fig.axes[0]
+        for name, t in table.items():
+            ax.plot(
+                display.convert(np.deg2rad(t["max_pressure_angle_deg"]), "rad")[0],
+                display.convert(t["peak_acceleration"], "m/s^2")[0],
+                "D",
+                ms=8,
+                color=colours[name],
+                mec="k",
+                label=f"paper 000: {names[name]}",
+            )
+        for leg in fig.legends:
+            leg.remove()
+        ax.margins(0.1)
+        fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncol=3)
+        save(fig, "beam_pump_pareto.png")
+
+    headline = best_design if best_design is not None else units["2b"]
+    anim = headline.animate(frames=36, speed=w, dpi=60)
+    files.append(anim.save(out / "beam_pump.gif"))
 
     keys = list(next(iter(table.values())).keys())
     with open(out / "beam_pump_extremes.csv", "w", newline="") as fh:

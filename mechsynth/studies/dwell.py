@@ -32,6 +32,7 @@ import numpy as np
 
 from ..machines.dwell import DwellSliderCrank
 from ..machines.dwell.metrics import dwell_metrics, dwell_window
+from ..progress import Stages
 from . import StudyResult
 
 R_BOUNDS = (0.05, 0.5)
@@ -347,11 +348,16 @@ def certify(
     )
 
 
-def _draw(best, tolerance, out: Path):
+def _draw(best, tolerance, stroke, out: Path):
+    """The best design at the start of its dwell with the coupler curve, the dwell section and
+    the slot, and the displacement of link 5 with the dwell window; an animation of it."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
+    from ..plotting import PALETTE, crank_axis, style
+    from ..plotting import save as save_figure
 
     n = 720
     phi = np.arange(n) * 2 * np.pi / n
@@ -361,44 +367,54 @@ def _draw(best, tolerance, out: Path):
     idx = (w.start + np.arange(w.count)) % n
     mo = m.motion(phi)
     c = mo.points["C"]
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(13, 5.2), constrained_layout=True)
-    a1.plot(c.x, c.y, color="0.4", lw=1, label="coupler curve of C")
-    a1.plot(np.asarray(c.x)[idx], np.asarray(c.y)[idx], color="C3", lw=2.5, label="dwell section")
-    i0 = w.start
-    pts = {name: (float(mo.points[name].x[i0]), float(mo.points[name].y[i0])) for name in "OABC"}
-    for p, q in (("O", "A"), ("A", "B"), ("A", "C"), ("B", "C")):
-        a1.plot(*zip(pts[p], pts[q]), "k-", lw=2)
-    for name, (px, py) in pts.items():
-        a1.plot(px, py, "ko", ms=5)
-        a1.annotate(name, (px, py), textcoords="offset points", xytext=(4, 4))
-    a1.axhline(0.0, color="0.6", ls="--", lw=0.8, label="slider guide")
-    t = np.linspace(-0.6, 0.6, 2)
-    cx, cy = pts["C"]
-    a1.plot(
-        cx + t * np.cos(xi), cy + t * np.sin(xi), "C0-", lw=4, alpha=0.4, label="slot of link 5"
-    )
-    a1.set_aspect("equal")
-    a1.grid(True, alpha=0.4)
-    a1.set_xlabel("x / l")
-    a1.set_ylabel("y / l")
-    a1.legend(fontsize=8)
-    a1.set_title(
+    design = (
         f"r = {best['r']:.4f}, k = {best['k']:.4f}, γ = {best['gamma_deg']:.2f}°, "
-        f"at φ_L = {best['phi_L_deg']:.1f}°"
+        f"ξ = {best['xi_deg']:.2f}°"
     )
-    s5 = np.asarray(mo.sliders["5"].position)
-    deg = np.rad2deg(phi)
-    a2.plot(deg, s5, "k-", lw=1.2, label="s5(φ)")
-    a2.plot(deg[idx], s5[idx], "C3.", ms=2, label=f"dwell α_Σ = {best['dwell_deg']:.1f}°")
-    a2.grid(True, alpha=0.4)
-    a2.set_xlabel("crank angle φ, deg")
-    a2.set_ylabel("displacement s5 of link 5, × l")
-    a2.set_title(f"S_max = {best['S_max']:.4f} l, 2E = {2 * best['deviation']:.4g} l")
-    a2.legend(fontsize=8)
-    path = out / "dwell_best.png"
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    with style():
+        fig, (a1, a2) = plt.subplots(
+            1, 2, figsize=(13, 5.5), layout="constrained", width_ratios=(1.25, 1)
+        )
+        m.draw(phi[w.start], ax=a1, trace=(), title=False)
+        a1.plot(c.x, c.y, color="0.45", lw=1, ls="--", label="coupler curve of C")
+        a1.plot(
+            np.asarray(c.x)[idx],
+            np.asarray(c.y)[idx],
+            color=PALETTE[5],
+            lw=3,
+            label=f"dwell section ({best['dwell_deg']:.1f}°)",
+        )
+        a1.set_xlabel("x / l")
+        a1.set_ylabel("y / l")
+        a1.legend(loc="upper left", bbox_to_anchor=(0.0, -0.12), ncol=2)
+        a1.set_title(
+            f"Longest-dwell linkage: {design}\nat the start of the dwell, "
+            f"φ_L = {best['phi_L_deg']:.1f}°",
+            fontsize=9,
+        )
+        s5 = np.asarray(mo.sliders["5"].position)
+        deg = np.rad2deg(phi)
+        a2.plot(deg, s5, "k-", lw=1.2, label="displacement s5 of link 5")
+        a2.plot(
+            deg[idx],
+            s5[idx],
+            ".",
+            color=PALETTE[5],
+            ms=2.5,
+            label=f"dwell α_Σ = {best['dwell_deg']:.1f}°",
+        )
+        crank_axis(a2, "crank angle φ")
+        a2.set_ylabel("displacement s5 of link 5, × l")
+        a2.set_title(
+            f"stroke S_max = {best['S_max']:.4f} l (≥ {stroke:g} l), band 2E = "
+            f"{2 * best['deviation']:.4g} l (E ≤ {tolerance:g} l)",
+            fontsize=9,
+        )
+        a2.legend(loc="upper left", bbox_to_anchor=(0.0, -0.12), ncol=2)
+        files = [save_figure(fig, out / "dwell_best.png", dpi=120)]
+    anim = m.animate(frames=36, dpi=60)
+    files.append(anim.save(out / "dwell_best.gif"))
+    return files
 
 
 def sensitivity(best, tolerance, rel=0.01):
@@ -472,6 +488,15 @@ def run(
     n = _check_counts("n", n, 2)
     if int(starts) < 1:
         raise ValueError(f"starts must be >= 1, got {starts}")
+    names = ["1. global grid", "2. refinement", "3. certificate"]
+    if out is not None:
+        names.append("figure and animation")
+    with Stages("dwell", names) as st:
+        return _run(out, tolerance, stroke, n, starts, dense, local, min_scale, workers, st, names)
+
+
+def _run(out, tolerance, stroke, n, starts, dense, local, min_scale, workers, st, names):
+    st.next(names[0])
     global_stage, start_points = grid_stage(tolerance, stroke, n, starts, 360, workers)
     data = {"tolerance": tolerance, "stroke": stroke, "stages": [global_stage.as_dict()]}
     if len(start_points) == 0:
@@ -481,8 +506,10 @@ def run(
     g = global_stage.best
     seed = evaluate(g["r"], g["k"], g["gamma_deg"], tolerance)
     step = 0.5 * (UPPER - LOWER) / (np.array(n) - 1)
+    st.next(names[1])
     stage2 = refine(start_points, tolerance, stroke, step, min_scale, 720, workers)
     best = stage2.best
+    st.next(names[2])
     cert = certify(
         best["r"], best["k"], best["gamma_deg"], tolerance, stroke, dense, local, 720, workers
     )
@@ -498,9 +525,10 @@ def run(
     data["stages"].append(stage2.as_dict())
     files = []
     if out is not None:
+        st.next(names[3])
         out = Path(out)
         out.mkdir(parents=True, exist_ok=True)
-        files.append(_draw(best, tolerance, out))
+        files += _draw(best, tolerance, stroke, out)
     cb = cert.grid_best
     summary = "\n".join(
         [

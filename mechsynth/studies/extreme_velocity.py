@@ -24,6 +24,8 @@ from ..kinematics.extreme_velocity import (
     velocity_analog,
     velocity_analog_derivative,
 )
+from ..kinematics.slider_crank import SliderCrank
+from ..progress import Stages
 from ..units import dms, format_dms
 from . import StudyResult
 
@@ -166,36 +168,45 @@ def _figure(path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from ..plotting import LINESTYLES, PALETTE, crank_axis, style
+    from ..plotting import save as save_figure
+
     phi = np.linspace(0.0, 2 * np.pi, 721)
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True)
-    for ratio in (1.75, 2.5, 4.0, 6.0):
-        s = velocity_analog(phi, ratio, 0.0)
-        line = axes[0].plot(np.rad2deg(phi), s, label=f"b/a = {ratio:g}")[0]
-        ev = extreme_velocity(1.0, ratio, 0.0)
-        for ext in (ev.minimum, ev.maximum):
-            axes[0].plot(np.rad2deg(ext.angle), -ext.value, "o", color=line.get_color())
-    axes[0].set_title("Centric: velocity analog s0 = -v_B/(a omega)")
-    for ratio, e0 in ((3.0, 0.0), (3.0, 0.5), (3.0, 1.0), (3.0, -1.0)):
-        s = velocity_analog(phi, ratio, e0)
-        line = axes[1].plot(np.rad2deg(phi), s, label=f"b/a = {ratio:g}, e/a = {e0:g}")[0]
-        ev = extreme_velocity(1.0, ratio, -e0)
-        for ext in (ev.minimum, ev.maximum):
-            axes[1].plot(np.rad2deg(ext.angle), -ext.value, "o", color=line.get_color())
-    axes[1].set_title("Offset: extrema from the derived polynomial (dots)")
-    for ax in axes:
-        ax.set_xlabel("crank angle phi (deg)")
-        ax.set_ylabel("s0 (per crank length)")
-        ax.set_xticks(range(0, 361, 45))
-        ax.grid(True, alpha=0.4)
-        ax.legend(fontsize=8)
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
+    with style():
+        fig, axes = plt.subplots(1, 2, figsize=(12, 5), layout="constrained", sharey=True)
+        cases = (
+            [(ratio, 0.0, f"b/a = {ratio:g}") for ratio in (1.75, 2.5, 4.0, 6.0)],
+            [(3.0, e0, f"b/a = 3, e/a = {e0:g}") for e0 in (0.0, 0.5, 1.0, -1.0)],
+        )
+        for ax, group in zip(axes, cases):
+            for k, (ratio, e0, label) in enumerate(group):
+                colour = PALETTE[(4, 5, 3, 6)[k]]
+                s = velocity_analog(phi, ratio, e0)
+                ax.plot(np.rad2deg(phi), s, color=colour, ls=LINESTYLES[k], label=label)
+                ev = extreme_velocity(1.0, ratio, -e0)
+                for ext in (ev.minimum, ev.maximum):
+                    ax.plot(np.rad2deg(ext.angle), -ext.value, "o", color=colour, mec="k")
+            ax.axhline(0.0, color="0.3", lw=0.6)
+            crank_axis(ax, "crank angle φ from +x, counter-clockwise")
+            ax.legend(loc="upper left", bbox_to_anchor=(0.0, -0.16), ncol=2)
+        axes[0].set_ylabel("velocity analog s0 = -v_B / (a ω), per crank length")
+        axes[0].set_title("Centric slider-crank (paper 004, Table 1): extrema (dots)", fontsize=10)
+        axes[1].set_title("Offset designs: extrema from the derived polynomial (dots)", fontsize=10)
+        save_figure(fig, path, dpi=130)
 
 
 def run(out=None) -> StudyResult:
-    """Run the study; write ``table1.csv``, ``offset_check.csv`` and ``velocity_analogs.png`` into
-    ``out`` when given."""
+    """Run the study; write ``table1.csv``, ``offset_check.csv``, ``velocity_analogs.png`` and an
+    animation of the b/a = 2 design into ``out`` when given."""
+    names = ["Table 1", "offset designs"] + (["figure and animation"] if out is not None else [])
+    with Stages("extreme-velocity", names) as stages:
+        return _run(out, stages)
+
+
+def _run(out, stages) -> StudyResult:
+    stages.next("Table 1")
     rows = table_1()
+    stages.next("offset designs")
     offsets = offset_check()
     errata = list(ERRATA)
     bad = [r for r in rows if abs(r["lambda_s_relative_deviation"]) > LAMBDA_TOL]
@@ -256,12 +267,15 @@ def run(out=None) -> StudyResult:
 
     files = []
     if out is not None:
+        stages.next("figure and animation")
         out = Path(out)
         _write_csv(out / "table1.csv", rows)
         _write_csv(out / "offset_check.csv", offsets)
         _figure(out / "velocity_analogs.png")
+        design = SliderCrank(crank=1.0, rod=2.0)
+        anim = design.animate(frames=36, dpi=60, trace=("B",))
         files = [out / "table1.csv", out / "offset_check.csv", out / "velocity_analogs.png"]
-        lines += ["", "Files:"] + [f"  {f}" for f in files]
+        files.append(anim.save(out / "slider_crank_b_a_2.gif"))
 
     data = {
         "source": "Dzhavadyan, extreme values of the slider velocity of a slider-crank, Table 1",

@@ -15,10 +15,12 @@ import time
 
 import numpy as np
 
+from ..display import fmt
 from ..dynamics.equation_of_motion import energy_method_flywheel, size_flywheel
 from ..machines.nail_header import NailHeader
 from ..machines.nail_header.drive import MOTOR_ASSUMPTION, nail_header_speed_fluctuation
 from ..objectives.forces import reaction_affine_map
+from ..progress import Stages
 from ..report import StudyResult
 from ..synthesis.convex import minimax_affine
 from ..units import cycle, to_rpm
@@ -89,9 +91,23 @@ def _minimax(joints, phi, with_cw):
     return minimax_affine(A, b, angles=rows, norm="euclidean", bounds=bounds, names=names)
 
 
+STAGES = (
+    "reactions (Table 1)",
+    "optimal slider mass",
+    "speed fluctuation",
+    "figures, tables, animation",
+)
+
+
 def run(out=None, angles=1440, scan_step=0.5):
     """Run the study; ``angles`` crank positions per turn, ``scan_step`` kg for the scan."""
+    with Stages("nail-header", STAGES if out is not None else STAGES[:-1]) as stages:
+        return _run(out, angles, scan_step, stages)
+
+
+def _run(out, angles, scan_step, stages):
     t0 = time.perf_counter()
+    stages.next(STAGES[0])
     phi = -cycle(angles)  # clockwise turn from the outer dead centre
     results, table = {}, []
     for m3 in (15.0, 50.0):
@@ -121,6 +137,7 @@ def run(out=None, angles=1440, scan_step=0.5):
     ejector["paper_spring_law_at_pi"] = literal
 
     # the open problem: slider mass minimizing peak R32, and the largest of R10/R21/R32
+    stages.next(STAGES[1])
     masses = np.arange(MASS_BOUNDS[0], MASS_BOUNDS[1] + 1e-9, scan_step)
     opt = {}
     for key, joints in (("R32", ("R32",)), ("R10/R21/R32", TRAIN)):
@@ -159,6 +176,7 @@ def run(out=None, angles=1440, scan_step=0.5):
 
     # speed fluctuation at 600 rpm with the assumed motor (the same NailHeader, all its loads),
     # and without the upsetting force at the same gear ratio (what the varying inertia alone does)
+    stages.next(STAGES[2])
     drive, speed_rows = {}, []
     for m3 in (15.0, 50.0):
         r = nail_header_speed_fluctuation(NailHeader(m3=m3))
@@ -204,6 +222,7 @@ def run(out=None, angles=1440, scan_step=0.5):
 
     files = []
     if out is not None:
+        stages.next(STAGES[3])
         files = _write(out, results, table, opt, phi, drive)
 
     lines = ["Paper 003 (first part): AB4115 nail header, maximum reactions (Table 1)"]
@@ -234,14 +253,16 @@ def run(out=None, angles=1440, scan_step=0.5):
     )
     for key, o in opt.items():
         lines.append(
-            f" optimal slider mass for peak {key}: {o['mass']:.3f} kg (cvxpy, {o['status']}), "
-            f"peak {o['peak']:.0f} N ({o['reduction_pct']:.1f} % below the 15 kg design); "
-            f"scan: {o['scan_mass']:.1f} kg, {o['scan_peak']:.0f} N"
+            f" optimal slider mass for peak {key}: {fmt(o['mass'], 'kg', 6)} (cvxpy, "
+            f"{o['status']}), peak {fmt(o['peak'], 'N', 5)} ({o['reduction_pct']:.1f} % below "
+            f"the 15 kg design); scan: {fmt(o['scan_mass'], 'kg', 4)}, "
+            f"{fmt(o['scan_peak'], 'N', 5)}"
         )
     lines.append(
-        f" jointly with a counterweight: m3 = {joint_out['mass']:.3f} kg, m_cw r_cw = "
-        f"{joint_out['counterweight_kg_m']:.4f} kg m, peak {joint_out['peak']:.0f} N "
-        f"({joint_out['reduction_pct']:.1f} % below the 15 kg design)"
+        f" jointly with a counterweight: m3 = {fmt(joint_out['mass'], 'kg', 6)}, m_cw r_cw = "
+        f"{fmt(joint_out['counterweight_kg_m'], 'kg m', 4)}, peak "
+        f"{fmt(joint_out['peak'], 'N', 5)} ({joint_out['reduction_pct']:.1f} % below the 15 kg "
+        "design)"
     )
     lines.append(
         " A crank counterweight changes only the crank bearing R10 (the crank turns uniformly), so "
@@ -295,6 +316,29 @@ def run(out=None, angles=1440, scan_step=0.5):
     return StudyResult("nail-header", "\n".join(lines), data, files, list(ERRATA))
 
 
+def _centred(phi):
+    """Clockwise crank angle from the outer dead centre in [-180, 180) deg: the upsetting blow
+    just before the dead centre stays in one piece instead of splitting between 0 and 360."""
+    return np.mod(_cw_deg(phi) + 180.0, 360.0) - 180.0
+
+
+ZOOM = (-16.0, 4.0)  # deg around the outer dead centre: the upsetting blow
+CW_LABEL = "clockwise crank angle from the outer dead centre, deg"
+
+
+def _crank_axes(whole, zoomed):
+    """Whole-turn axes from -180 to 180 deg, zoomed axes over the blow; the lowest of each
+    column labelled."""
+    for ax in whole:
+        ax.set_xlim(-180, 180)
+        ax.set_xticks(np.arange(-180, 181, 45))
+    for ax in zoomed:
+        ax.set_xlim(*ZOOM)
+        ax.set_xticks(np.arange(-15, ZOOM[1] + 1e-9, 5))
+    whole[-1].set_xlabel(CW_LABEL)
+    zoomed[-1].set_xlabel("clockwise crank angle, deg")
+
+
 def _write(out, results, table, opt, phi, drive):
     import csv
 
@@ -303,54 +347,147 @@ def _write(out, results, table, opt, phi, drive):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from ..plotting import LINESTYLES, PALETTE, force_unit, style
+    from ..plotting import save as save_figure
+
     files = []
 
     def save(fig, name):
-        files.append(out / name)
-        fig.savefig(files[-1], dpi=110)
-        plt.close(fig)
+        files.append(save_figure(fig, out / name, dpi=110))
 
-    fig, axes = plt.subplots(2, 3, figsize=(12, 8), constrained_layout=True)
-    for row, (m3, res) in zip(axes, results.items()):
-        for ax, j in zip(row, TRAIN):
-            res.hodograph(j, ax=ax, label=f"{j}, m3 = {m3:.0f} kg")
-    save(fig, "nail_header_hodographs.png")
+    x = _centred(phi)
+    order = np.argsort(x)
+    x = x[order]
+    masses = list(results)
+    colours = {"R10": PALETTE[4], "R21": PALETTE[5], "R32": PALETTE[3]}
+    big = np.concatenate([results[m].magnitude(j) for m in masses for j in TRAIN])
+    div, unit = force_unit(big)
+    rpm = NailHeader().n1
+    with style():
+        # reactions: the whole turn and the upsetting blow enlarged, for both slider masses
+        fig, axes = plt.subplots(
+            3, 2, figsize=(12, 10), layout="constrained", width_ratios=(2.2, 1)
+        )
+        for row, m3 in zip(axes[:2], masses):
+            res = results[m3]
+            for k, j in enumerate(TRAIN):
+                y = np.asarray(res.magnitude(j))[order] / div
+                for ax in row:
+                    ax.plot(x, y, color=colours[j], ls=LINESTYLES[k], label=j)
+            row[0].set_title(
+                f"AB4115 nail header at {rpm:g} rpm, slider mass {m3:g} kg: reactions "
+                "over the turn",
+                fontsize=9,
+            )
+            row[1].set_title(f"the upsetting blow, {ZOOM[0]:g} to {ZOOM[1]:g} deg", fontsize=9)
+            for ax in row:
+                ax.set_ylabel(f"reaction magnitude, {unit}")
+            row[1].legend(loc="upper left")
+        e = results[masses[0]]
+        for k, j in enumerate(("R43", "R50")):
+            axes[2, 0].plot(
+                x,
+                np.asarray(e.magnitude(j))[order],
+                color=PALETTE[6 - k],
+                ls=LINESTYLES[k],
+                label=j,
+            )
+        axes[2, 0].set_title("ejector reactions (the same for both slider masses)", fontsize=9)
+        axes[2, 0].set_ylabel("reaction magnitude, N")
+        axes[2, 0].legend(loc="upper left", bbox_to_anchor=(1.02, 1.0))
+        axes[2, 1].axis("off")
+        _crank_axes(axes[:, 0], axes[:2, 1])
+        save(fig, "nail_header_reactions.png")
 
-    fig, axes = plt.subplots(2, 2, figsize=(12, 7), constrained_layout=True)
-    for col, (m3, res) in enumerate(results.items()):
-        res.plot(TRAIN, ax=axes[0, col], angle=_cw_deg, label=f" ({m3:.0f} kg)")
-        res.plot(("R43", "R50"), ax=axes[1, col], angle=_cw_deg, label=f" ({m3:.0f} kg)")
-        axes[0, col].set_title(f"slider mass {m3:.0f} kg")
-    save(fig, "nail_header_reactions.png")
+        # hodographs: one per joint, both slider masses on it, equal axes fitted to the curves
+        fig, axes = plt.subplots(3, 1, figsize=(9, 7.5), layout="constrained")
+        for ax, j in zip(axes, TRAIN):
+            for k, m3 in enumerate(masses):
+                results[m3].hodograph(
+                    j,
+                    ax=ax,
+                    unit=(div, unit),
+                    color=PALETTE[4 + k],
+                    ls=LINESTYLES[k],
+                    label=f"slider mass {m3:g} kg",
+                )
+            ax.set_title(f"{j}: force on the {_ON[j]}", fontsize=9)
+        handles, labels = axes[0].get_legend_handles_labels()
+        fig.legend(handles, labels, loc="outside lower center", ncol=2)
+        fig.suptitle(
+            f"AB4115 nail header at {rpm:g} rpm: hodographs of the reactions (+: origin)",
+            fontsize=10,
+        )
+        save(fig, "nail_header_hodographs.png")
 
-    fig, ax = plt.subplots(figsize=(7, 4), constrained_layout=True)
-    for key, o in opt.items():
-        masses, scan = o["scan"]
-        ax.plot(masses, scan, label=f"peak {key} (scan)")
-        ax.plot([o["mass"]], [o["peak"]], "o", label=f"cvxpy optimum {key}")
-    ax.set_xlabel("slider mass, kg")
-    ax.set_ylabel("peak reaction, N")
-    ax.grid(True, alpha=0.4)
-    ax.legend()
-    save(fig, "nail_header_slider_mass.png")
+        # the slider mass that minimizes the peak reaction
+        fig, ax = plt.subplots(figsize=(8, 4.5), layout="constrained")
+        for k, (key, o) in enumerate(opt.items()):
+            masses_scan, scan = o["scan"]
+            ax.plot(
+                masses_scan,
+                scan / div,
+                color=PALETTE[4 + k],
+                ls=LINESTYLES[k],
+                label=f"peak {key}, scan every {masses_scan[1] - masses_scan[0]:g} kg",
+            )
+            ax.plot(
+                [o["mass"]],
+                [o["peak"] / div],
+                "o",
+                ms=8,
+                color=PALETTE[4 + k],
+                mec="k",
+                label=f"cvxpy optimum: {o['mass']:.1f} kg, {o['peak'] / div:.1f} {unit}",
+            )
+        ax.set_xlabel("slider mass m3, kg")
+        ax.set_ylabel(f"peak reaction over the turn, {unit}")
+        ax.set_title(
+            f"AB4115 nail header at {rpm:g} rpm: peak reaction against the slider mass", fontsize=10
+        )
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
+        save(fig, "nail_header_slider_mass.png")
 
-    fig, axes = plt.subplots(2, 1, figsize=(7, 6), sharex=True, constrained_layout=True)
-    for m3, r in drive.items():
-        c = r["ivp"]
-        axes[0].plot(np.rad2deg(c.phi), to_rpm(c.omega), label=f"m3 = {m3:.0f} kg")
-        axes[1].plot(np.rad2deg(c.phi), -c.load_moment, label=f"m3 = {m3:.0f} kg")
-    axes[0].set_ylabel("crank speed, rpm")
-    axes[1].set_ylabel("resisting moment at the crank, N m")
-    axes[1].set_xlabel("clockwise crank angle from the outer dead centre, deg")
-    for ax in axes:
-        ax.grid(True, alpha=0.4)
-        ax.legend()
-    save(fig, "nail_header_speed.png")
+        # speed fluctuation: the crank speed over the turn, the resisting moment and its blow
+        fig, axes = plt.subplots(
+            2, 2, figsize=(12, 7.5), layout="constrained", width_ratios=(2.2, 1), sharex="col"
+        )
+        for k, (m3, r) in enumerate(drive.items()):
+            c = r["ivp"]
+            xc = _centred(-np.asarray(c.phi))
+            o = np.argsort(xc)
+            kw = dict(color=PALETTE[4 + k], ls=LINESTYLES[k], label=f"slider mass {m3:g} kg")
+            for ax in axes[0]:
+                ax.plot(xc[o], to_rpm(c.omega)[o], **kw)
+            for ax in axes[1]:
+                ax.plot(xc[o], -np.asarray(c.load_moment)[o], **kw)
+        axes[0, 0].set_title(
+            f"AB4115 nail header driven at {rpm:g} rpm by the assumed motor: crank speed",
+            fontsize=9,
+        )
+        axes[1, 0].set_title(
+            "resisting moment reduced to the crank (the same for both slider masses)", fontsize=9
+        )
+        axes[0, 1].set_title(f"the upsetting blow, {ZOOM[0]:g} to {ZOOM[1]:g} deg", fontsize=9)
+        for ax in axes[0]:
+            ax.set_ylabel("crank speed, rpm")
+        for ax in axes[1]:
+            ax.set_ylabel("resisting moment, N m")
+        _crank_axes(axes[:, 0], axes[:, 1])
+        handles, labels = axes[0, 0].get_legend_handles_labels()
+        fig.legend(handles, labels, loc="outside lower center", ncol=2)
+        save(fig, "nail_header_speed.png")
+
+    anim = NailHeader().animate(frames=36, speed=NailHeader().omega, dpi=60)
+    files.append(anim.save(out / "nail_header.gif"))
 
     p = out / "nail_header_table1.csv"
     with p.open("w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["slider_mass"] + [f"{j}_{k}" for j in JOINTS for k in ("max", "angle_deg")])
+        w.writerow(
+            ["slider mass [kg]"]
+            + [f"{j} {k}" for j in JOINTS for k in ("max [N]", "at clockwise angle [deg]")]
+        )
         for row in table:
             w.writerow(
                 [row["slider_mass"]] + [row[j][k] for j in JOINTS for k in ("max", "angle_deg")]
@@ -361,9 +498,17 @@ def _write(out, results, table, opt, phi, drive):
     with p.open("w", newline="") as fh:
         w = csv.writer(fh)
         cols = [(m3, j) for m3 in results for j in JOINTS]
-        w.writerow(["crank_angle_deg"] + [f"{j}_{m3:.0f}kg" for m3, j in cols] + ["torque_15kg"])
+        w.writerow(
+            ["clockwise crank angle [deg]"]
+            + [f"|{j}| at {m3:.0f} kg [N]" for m3, j in cols]
+            + ["balancing torque at 15 kg [N m]"]
+        )
         mags = [results[m3].magnitude(j) for m3, j in cols]
         for i, a in enumerate(_cw_deg(phi)):
             w.writerow([a] + [float(m[i]) for m in mags] + [float(results[15.0].torque[i])])
     files.append(p)
     return files
+
+
+#: what body each reaction acts on (the paper's "R_ij": on i from j)
+_ON = {"R10": "crank", "R21": "rod", "R32": "slider", "R43": "block", "R50": "ejector"}

@@ -28,7 +28,6 @@ stroke (:func:`slider_crank_chart`).
 
 from __future__ import annotations
 
-import csv
 import json
 import time
 from collections.abc import Callable, Mapping
@@ -123,7 +122,9 @@ class Chart:
         """The best grid design for ``measure`` among the feasible designs satisfying ``where``.
 
         Returns ``{"index", "grid": {name: value}, "params": {name: value}, "values": {label:
-        value}}``; raises ValueError when no grid design qualifies.
+        value}, "on_edge": {grid name: "lower" | "upper"}}`` (``on_edge`` names the axes on
+        whose first or last value the best design sits: the optimum may lie outside the chart);
+        raises ValueError when no grid design qualifies.
         """
         if measure not in self.values:
             raise ValueError(f"unknown measure {measure!r}; chart has {', '.join(self.values)}")
@@ -135,46 +136,55 @@ class Chart:
         data = self.values[measure].filled(0.0)
         score = np.where(ok, data if sense == "min" else -data, np.inf)
         idx = np.unravel_index(int(np.argmin(score)), self.shape)
+        edge = {}
+        for (n, v), i in zip(self.grid.items(), idx):
+            if v.size > 1 and i == 0:
+                edge[n] = "lower"
+            elif v.size > 1 and i == v.size - 1:
+                edge[n] = "upper"
         return dict(
             index=tuple(int(i) for i in idx),
             grid={n: float(v[i]) for (n, v), i in zip(self.grid.items(), idx)},
             params={k: float(v[idx]) for k, v in self.params.items()},
             values={k: float(v[idx]) for k, v in self.values.items()},
+            on_edge=edge,
         )
 
     # -------------------------------------------------------------- tables
-    def _columns(self):
-        mesh = np.meshgrid(*self.grid.values(), indexing="ij")
-        cols: list[tuple[str, np.ndarray, np.ndarray | None]] = []
-        for name, m in zip(self.grid, mesh):
-            cols.append((name, m.ravel(), None))
-        for name, v in self.params.items():
-            cols.append((name, v.filled(0.0).ravel(), np.ma.getmaskarray(v).ravel()))
-        cols.append(("feasible", self.feasible.ravel().astype(int), None))
-        for label, v in self.values.items():
-            unit = self.units.get(label, "")
-            head = f"{label} [{unit}]" if unit else label
-            cols.append((head, v.filled(0.0).ravel(), np.ma.getmaskarray(v).ravel()))
-        return cols
+    def _unit_of(self, name: str) -> str:
+        """SI unit of a grid axis or parameter (ratios and unknown names: none)."""
+        fields = getattr(self.mechanism, "__dataclass_fields__", {})
+        if name in fields and hasattr(self.mechanism, "parameter_unit"):
+            return self.mechanism.parameter_unit(name)
+        return ""
 
-    def to_csv(self, path) -> Path:
-        """One row per design: grid coordinates, mechanism parameters, ``feasible`` (1/0) and
-        the measures in SI units (empty cells where infeasible)."""
-        path = Path(path)
-        cols = self._columns()
-        with path.open("w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow([c[0] for c in cols])
-            for i in range(self.size):
-                w.writerow(
-                    [
-                        ""
-                        if (mask is not None and mask[i])
-                        else (str(int(v[i])) if name == "feasible" else f"{v[i]:.10g}")
-                        for name, v, mask in cols
-                    ]
-                )
-        return path
+    def _table(self):
+        from .. import tables
+
+        mesh = np.meshgrid(*self.grid.values(), indexing="ij")
+        cols = [(n, self._unit_of(n), m.ravel()) for n, m in zip(self.grid, mesh)]
+        # parameters that are also grid axes appear once, as axes
+        cols += [
+            (n, self._unit_of(n), v.ravel()) for n, v in self.params.items() if n not in self.grid
+        ]
+        cols.append(("feasible", "", self.feasible.ravel().astype(int)))
+        cols += [(k, self.units.get(k, ""), v.ravel()) for k, v in self.values.items()]
+        return tables.table(cols)
+
+    def to_dict(self) -> dict[str, list]:
+        """One column per grid axis, mechanism parameter (once) and measure, one entry per
+        design, in display units (``"name [unit]"``; None where infeasible)."""
+        from .. import tables
+
+        return tables.as_lists(self._table())
+
+    def to_csv(self, path=None):
+        """One row per design: grid coordinates, the other mechanism parameters, ``feasible``
+        (1/0) and the measures, in display units with the unit in each column name (empty
+        cells where infeasible). Written to ``path`` (returns it) or returned as text."""
+        from .. import tables
+
+        return tables.write_csv(self._table(), path)
 
     def to_npz(self, path) -> Path:
         """Arrays: ``grid/<name>`` (axes), ``value/<label>`` (zero where infeasible),
@@ -202,12 +212,13 @@ class Chart:
 
     # -------------------------------------------------------------- figure
     def _display(self, label):
-        """Values and unit for display: radians are shown in degrees."""
+        """Values, unit and converter for display (the display units; radians in degrees)."""
+        from .. import display
+
         unit = self.units.get(label, "")
+        factor, shown = display.current().factor(unit), display.current().unit(unit)
         v = self.values[label]
-        if unit == "rad":
-            return np.rad2deg(v), "deg", np.rad2deg
-        return v, unit, lambda x: x
+        return v / factor, shown, lambda x: np.asarray(x) / factor
 
     def plot(
         self,
@@ -220,28 +231,29 @@ class Chart:
         fill: bool = True,
         title: str | None = None,
     ):
-        """Contour nomogram over the two grid axes.
+        """Contour nomogram over the two grid axes, in the house style (colour-blind-safe
+        colours, labels in display units).
 
         Parameters
         ----------
-        ax : a matplotlib axes (default: a new figure).
+        ax : a matplotlib axes (default: a new figure with the legend below the chart).
         measures : labels to draw (default all); the first is filled with a colour bar, the
-            others are labelled contour lines in their own colours.
+            others are labelled contour lines, each in its own colour and line style.
         limits : ``{label: (op, bound)}`` (SI units) -- the regions that violate a limit are
-            hatched and its boundary drawn.
+            hatched in grey and its boundary drawn as a thick line.
         best : mark the grid design minimizing (``best_sense``) this measure among the feasible
-            designs within ``limits`` (default: the first measure; ``""`` marks none).
+            designs within ``limits`` (default: the first measure; ``""`` marks none). A best
+            design on the grid's edge is flagged: the optimum may lie outside the chart.
         levels : contour levels per measure.
 
-        Infeasible designs (cannot be built) are shaded grey and cross-hatched. Radian measures
-        are shown in degrees. Returns the figure.
+        Infeasible designs (cannot be built) are shaded grey and cross-hatched. Contour labels
+        that would overlap other text are left out. Returns the figure.
         """
-        import matplotlib
-
-        matplotlib.use("Agg")
         import matplotlib.pyplot as plt
         from matplotlib.lines import Line2D
         from matplotlib.patches import Patch
+
+        from ..plotting import PALETTE, label_contours, prune_labels, style
 
         if len(self.grid) != 2:
             raise ValueError(f"plot needs a 2-D grid; this chart has axes {list(self.grid)}")
@@ -249,116 +261,150 @@ class Chart:
         for lab in labels:
             if lab not in self.values:
                 raise ValueError(f"unknown measure {lab!r}; chart has {', '.join(self.values)}")
-        own = ax is None
-        fig = plt.figure(figsize=(8.5, 7.5), layout="constrained") if own else ax.figure
-        ax = fig.add_subplot() if own else ax
-        (xn, xv), (yn, yv) = self.grid.items()
-        X, Y = np.meshgrid(xv, yv, indexing="ij")
-        region = self.satisfied(limits) if limits else self.feasible
-        handles = []
-        colours = ["k", "C3", "C0", "C2", "C4", "C5"]
+        colours = [PALETTE[0], PALETTE[5], PALETTE[4], PALETTE[3], PALETTE[1], PALETTE[6]]
         styles = ["-", "--", "-.", ":", "-", "--"]
-        for i, lab in enumerate(labels):
-            z, unit, _ = self._display(lab)
-            lv = _levels(z, region, levels)
-            if lv is not None:
-                if i == 0 and fill:
-                    cf = ax.contourf(X, Y, z, levels=lv, cmap="viridis", alpha=0.75, extend="both")
-                    cb = fig.colorbar(cf, ax=ax)
-                    cb.set_label(f"{lab}, {unit}" if unit else lab)
-                    cs = ax.contour(X, Y, z, levels=lv, colors="k", linewidths=0.6)
-                else:
+        limit_colours = [PALETTE[6], PALETTE[1], PALETTE[2], PALETTE[7]]
+        with style():
+            own = ax is None
+            fig = plt.figure(figsize=(8.5, 8.0), layout="constrained") if own else ax.figure
+            ax = fig.add_subplot() if own else ax
+            (xn, xv), (yn, yv) = self.grid.items()
+            X, Y = np.meshgrid(xv, yv, indexing="ij")
+            region = self.satisfied(limits) if limits else self.feasible
+            handles = []
+            for i, lab in enumerate(labels):
+                z, unit, _ = self._display(lab)
+                lv = _levels(z, region, levels)
+                colour, ls = colours[i % len(colours)], styles[i % len(styles)]
+                if lv is not None:
+                    if i == 0 and fill:
+                        cf = ax.contourf(
+                            X, Y, z, levels=lv, cmap="viridis", alpha=0.75, extend="both"
+                        )
+                        cb = fig.colorbar(cf, ax=ax)
+                        cb.set_label(f"{lab}, {unit}" if unit else lab)
                     cs = ax.contour(
                         X,
                         Y,
                         z,
                         levels=lv,
-                        colors=colours[i % len(colours)],
-                        linewidths=1.1,
-                        linestyles=styles[i % len(styles)],
+                        colors=colour,
+                        linewidths=0.7 if i == 0 else 1.1,
+                        linestyles=ls,
                     )
-                ax.clabel(cs, fmt="%.4g", fontsize=7)
-            name = f"{lab}, {unit}" if unit else lab
-            handles.append(
-                Line2D(
-                    [], [], color=colours[i % len(colours)], ls=styles[i % len(styles)], label=name
-                )
-            )
-        infeasible = ~self.feasible
-        if infeasible.any():
-            with plt.rc_context({"hatch.color": "0.35", "hatch.linewidth": 0.6}):
-                ax.contourf(
-                    X,
-                    Y,
-                    infeasible.astype(float),
-                    levels=[0.5, 1.5],
-                    colors=["0.82"],
-                    hatches=["xx"],
-                )
-            handles.append(
-                Patch(facecolor="0.82", hatch="xx", edgecolor="0.35", label="infeasible design")
-            )
-        for j, (lab, (op, bound)) in enumerate((limits or {}).items()):
-            ok = self.satisfied({lab: (op, bound)})
-            bad = self.feasible & ~ok
-            colour = ["C3", "C1", "C6", "C9"][j % 4]
-            hatch = ["//", "\\\\", "||", "--"][j % 4]
-            z, unit, conv = self._display(lab)
-            shown = float(conv(bound))
-            if bad.any():
-                with plt.rc_context({"hatch.color": colour, "hatch.linewidth": 0.7}):
+                    label_contours(ax, cs, fmt="%.4g", fontsize=7, every=1 if i == 0 else 2)
+                name = f"{lab}, {unit}" if unit else lab
+                handles.append(Line2D([], [], color=colour, ls=ls, label=name))
+            infeasible = ~self.feasible
+            if infeasible.any():
+                with plt.rc_context({"hatch.color": "0.35", "hatch.linewidth": 0.6}):
                     ax.contourf(
-                        X, Y, bad.astype(float), levels=[0.5, 1.5], colors="none", hatches=[hatch]
+                        X,
+                        Y,
+                        infeasible.astype(float),
+                        levels=[0.5, 1.5],
+                        colors=["0.82"],
+                        hatches=["xx"],
                     )
-                zmin, zmax = float(z.min()), float(z.max())
-                if zmin < shown < zmax:
-                    ax.contour(X, Y, z, levels=[shown], colors=colour, linewidths=2.2)
-            inv = {"<=": ">", "<": ">=", ">=": "<", ">": "<="}[op]
-            handles.append(
-                Patch(
-                    facecolor="none",
-                    hatch=hatch,
-                    edgecolor=colour,
-                    label=f"{lab} {inv} {shown:g} {unit}".rstrip(),
-                )
-            )
-        best = labels[0] if best is None else best
-        if best:
-            try:
-                b = self.argbest(best, where=limits, sense=best_sense)
-            except ValueError:
-                b = None
-            if b is not None:
-                bx, by = b["grid"][xn], b["grid"][yn]
-                z, unit, conv = self._display(best)
-                val = float(conv(b["values"][best]))
-                ax.plot(bx, by, marker="*", ms=16, color="gold", mec="k", zorder=5)
                 handles.append(
-                    Line2D(
-                        [],
-                        [],
+                    Patch(facecolor="0.82", hatch="xx", edgecolor="0.35", label="infeasible design")
+                )
+            for j, (lab, (op, bound)) in enumerate((limits or {}).items()):
+                ok = self.satisfied({lab: (op, bound)})
+                bad = self.feasible & ~ok
+                colour = limit_colours[j % len(limit_colours)]
+                hatch = ["//", "\\\\", "||", "--"][j % 4]
+                z, unit, conv = self._display(lab)
+                shown = float(conv(bound))
+                if bad.any():
+                    with plt.rc_context({"hatch.color": "0.25", "hatch.linewidth": 0.5}):
+                        ax.contourf(
+                            X,
+                            Y,
+                            bad.astype(float),
+                            levels=[0.5, 1.5],
+                            colors="none",
+                            hatches=[hatch],
+                        )
+                    zmin, zmax = float(z.min()), float(z.max())
+                    if zmin < shown < zmax:
+                        ax.contour(X, Y, z, levels=[shown], colors=colour, linewidths=2.6)
+                inv = {"<=": ">", "<": ">=", ">=": "<", ">": "<="}[op]
+                handles.append(
+                    Patch(
+                        facecolor="none",
+                        hatch=hatch,
+                        edgecolor="0.25",
+                        label=f"{lab} {inv} {shown:g} {unit}".rstrip(),
+                    )
+                )
+                handles.append(
+                    Line2D([], [], color=colour, lw=2.6, label=f"limit {lab} = {shown:g} {unit}")
+                )
+            # a margin around the grid, so that a design on its edge is drawn whole
+            for setter, v in ((ax.set_xlim, xv), (ax.set_ylim, yv)):
+                pad = 0.02 * float(np.ptp(v)) if v.size > 1 else 0.5
+                setter(float(v.min()) - pad, float(v.max()) + pad)
+            best = labels[0] if best is None else best
+            if best:
+                try:
+                    b = self.argbest(best, where=limits, sense=best_sense)
+                except ValueError:
+                    b = None
+                if b is not None:
+                    bx, by = b["grid"][xn], b["grid"][yn]
+                    z, unit, conv = self._display(best)
+                    val = float(conv(b["values"][best]))
+                    ax.plot(
+                        bx,
+                        by,
                         marker="*",
-                        ms=12,
+                        ms=16,
                         color="gold",
                         mec="k",
+                        zorder=6,
+                        clip_on=False,
                         ls="none",
-                        label=f"best grid design: {best} = {val:.5g} {unit}".rstrip(),
                     )
-                )
-        ax.set_xlabel(self.labels.get(xn, xn))
-        ax.set_ylabel(self.labels.get(yn, yn))
-        ax.grid(True, alpha=0.3, ls=":")
-        if own:
-            fig.legend(handles=handles, loc="outside lower center", ncol=2, fontsize=8)
-        else:
-            ax.legend(handles=handles, loc="best", fontsize=7, framealpha=0.9)
-        name = getattr(self.mechanism, "__name__", "")
-        ax.set_title(
-            title
-            or f"{name} design chart: {self.shape[0]} x {self.shape[1]} designs, "
-            f"{self.angles} crank angles",
-            fontsize=10,
-        )
+                    note = ""
+                    if b["on_edge"]:
+                        note = " (on the grid's edge)"
+                        ax.annotate(
+                            "on the grid's edge",
+                            (bx, by),
+                            xytext=(-12, -14),
+                            textcoords="offset points",
+                            ha="right",
+                            fontsize=8,
+                            bbox=dict(boxstyle="round,pad=0.2", fc="white", ec="0.3"),
+                        )
+                    handles.append(
+                        Line2D(
+                            [],
+                            [],
+                            marker="*",
+                            ms=12,
+                            color="gold",
+                            mec="k",
+                            ls="none",
+                            label=f"best grid design: {best} = {val:.5g} {unit}{note}".rstrip(),
+                        )
+                    )
+            ax.set_xlabel(self.labels.get(xn, xn))
+            ax.set_ylabel(self.labels.get(yn, yn))
+            ax.grid(True, alpha=0.3, ls=":")
+            if own:
+                fig.legend(handles=handles, loc="outside lower center", ncol=2, fontsize=8)
+            else:
+                ax.legend(handles=handles, loc="best", fontsize=7, framealpha=0.9)
+            name = getattr(self.mechanism, "__name__", "")
+            ax.set_title(
+                title
+                or f"{name} design chart: {self.shape[0]} x {self.shape[1]} designs, "
+                f"{self.angles} crank angles",
+                fontsize=10,
+            )
+            prune_labels(fig)
         return fig
 
 
@@ -461,7 +507,7 @@ def sweep(
     Raises ValueError when no design of the grid is feasible (the message gives the first
     reason).
     """
-    from tqdm.auto import tqdm
+    from ..progress import bar as progress_bar
 
     t0 = time.perf_counter()
     if not grid:
@@ -576,11 +622,8 @@ def sweep(
         ok_all[idx] = ok
 
     n_chunks = -(-total // chunk)
-    bar = tqdm(
-        total=n_chunks,
-        disable=None if progress else True,
-        desc=f"sweep {total} designs",
-        leave=False,
+    bar = progress_bar(
+        total=n_chunks, desc=f"sweep {total} designs", enabled=None if progress else False
     )
     workers = int(workers)
     if workers < 1:
@@ -714,6 +757,7 @@ def chart_slider_crank(out, options):
     """``mechsynth chart slider-crank``: options stroke=0.1 (m), rpm=600, n=60 (grid points
     per axis), n_angles=360, rod_crank=1.5:8, offset_crank=0:2, pressure_limit_deg=30,
     rod_max (m, optional: a limit on the rod length)."""
+    from .. import display
     from ..report import StudyResult
     from ..units import deg, rpm
 
@@ -759,24 +803,40 @@ def chart_slider_crank(out, options):
             measures=["peak slider acceleration", "max pressure angle", "time ratio"],
             limits=limits,
             best="peak slider acceleration",
+            title=f"Offset slider-crank, stroke {display.fmt(H, 'm', 4)} at {speed_rpm:g} rpm: "
+            f"{n} x {n} designs, {n_angles} crank angles",
         )
         fig.savefig(out / "slider_crank_chart.png", dpi=130)
         plt.close(fig)
         files.append(out / "slider_crank_chart.png")
     best = chart.argbest("peak slider acceleration", where=limits)
-    rod_text = "" if rod_max is None else f" and rod <= {float(rod_max):g} m"
+    rod_text = "" if rod_max is None else f" and rod <= {display.fmt(float(rod_max), 'm')}"
+    edge = best["on_edge"]
+    ranges = {"rod/crank": (l_lo, l_hi), "offset/crank": (e_lo, e_hi)}
+    edge_text = ""
+    if edge:
+        where = ", ".join(
+            f"{k} = {ranges[k][0 if side == 'lower' else 1]:g} ({side} end)"
+            for k, side in edge.items()
+        )
+        edge_text = (
+            f"\nWARNING: the best grid design lies on the grid's edge ({where}): the optimum may "
+            "lie outside the chart; widen the range (--set rod_crank=LOW:HIGH, "
+            "offset_crank=LOW:HIGH)."
+        )
+    p, v = best["params"], best["values"]
     summary = (
-        f"slider-crank chart: stroke {H:g} m at {speed_rpm:g} rpm, {n} x {n} designs "
-        f"(rod/crank {l_lo:g}..{l_hi:g}, offset/crank {e_lo:g}..{e_hi:g}), {n_angles} crank "
-        f"angles, {int(chart.feasible.sum())} feasible, {chart.elapsed:.2f} s.\n"
+        f"slider-crank chart: stroke {display.fmt(H, 'm')} at {speed_rpm:g} rpm, {n} x {n} "
+        f"designs (rod/crank {l_lo:g}..{l_hi:g}, offset/crank {e_lo:g}..{e_hi:g}), {n_angles} "
+        f"crank angles, {int(chart.feasible.sum())} feasible, {chart.elapsed:.2f} s.\n"
         f"Lowest peak slider acceleration with pressure angle <= {limit_deg:g} deg{rod_text} "
         "on the grid: "
-        f"{best['values']['peak slider acceleration']:.6g} m/s^2 at rod/crank "
+        f"{display.fmt(v['peak slider acceleration'], 'm/s^2')} at rod/crank "
         f"{best['grid']['rod/crank']:.4g}, offset/crank {best['grid']['offset/crank']:.4g} "
-        f"(crank {best['params']['crank'] * 1e3:.4g} mm, rod {best['params']['rod'] * 1e3:.4g} "
-        f"mm, offset {best['params']['offset'] * 1e3:.4g} mm; pressure angle "
-        f"{np.rad2deg(best['values']['max pressure angle']):.4g} deg, time ratio "
-        f"{best['values']['time ratio']:.4g})"
+        f"(crank {display.fmt(p['crank'], 'm', 4)}, rod {display.fmt(p['rod'], 'm', 4)}, "
+        f"offset {display.fmt(p['offset'], 'm', 4)}; pressure angle "
+        f"{display.fmt(v['max pressure angle'], 'rad', 4)}, time ratio "
+        f"{v['time ratio']:.4g}){edge_text}"
     )
     data = dict(
         stroke=H,
@@ -788,5 +848,6 @@ def chart_slider_crank(out, options):
         feasible=int(chart.feasible.sum()),
         elapsed=chart.elapsed,
         best_on_grid=best,
+        best_on_edge=bool(edge),
     )
     return StudyResult("slider-crank-chart", summary, data, [Path(f) for f in files])

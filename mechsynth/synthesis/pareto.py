@@ -26,7 +26,6 @@ values on the front are true peaks over the continuous crank angle.
 
 from __future__ import annotations
 
-import csv
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -121,74 +120,102 @@ class ParetoFront:
             solve_time=self.solve_time,
         )
 
-    def to_csv(self, path) -> Path:
-        """One row per point: eps, status, success, nondominated, both measures (SI units,
-        empty where the solve failed) and the design variables."""
-        path = Path(path)
+    @property
+    def mechanism(self):
+        """The mechanism class of the front's designs (None when no solve produced one)."""
+        return next((type(d) for d in self.designs if d is not None), None)
+
+    def labels(self) -> tuple[str, str]:
+        """The two measures in words (``"peak acceleration of the polished rod"``)."""
+        from ..plotting import readable
+
+        output = getattr(self.mechanism, "output_label", "slider")
+        return readable(self.first_name, output), readable(self.second_name, output)
+
+    def _table(self):
+        from .. import tables
+
         u1, u2 = self.units
-        head = [
-            "eps",
-            "status",
-            "success",
-            "nondominated",
-            f"{self.first_name} [{u1}]" if u1 else self.first_name,
-            f"{self.second_name} [{u2}]" if u2 else self.second_name,
-            *self.variables,
+        ok = self.success
+        cols = [
+            (f"bound on {self.second_name}", u2, self.eps),
+            ("status", "", np.array([r.status for r in self.results])),
+            ("success", "", ok.astype(int)),
+            ("nondominated", "", self.nondominated.astype(int)),
+            (self.first_name, u1, np.ma.MaskedArray(self.first.data, ~ok)),
+            (self.second_name, u2, np.ma.MaskedArray(self.second.data, ~ok)),
         ]
-        with path.open("w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(head)
-            for i, r in enumerate(self.results):
-                ok = bool(self.success[i])
-                row = [f"{self.eps[i]:.10g}", r.status, int(ok), int(self.nondominated[i])]
-                row += [
-                    f"{self.first[i]:.10g}" if ok else "",
-                    f"{self.second[i]:.10g}" if ok else "",
-                ]
-                row += [f"{r.variables[k]:.10g}" if ok else "" for k in self.variables]
-                w.writerow(row)
-        return path
+        mech = self.mechanism
+        for k in self.variables:
+            unit = mech.parameter_unit(k) if hasattr(mech, "parameter_unit") else ""
+            vals = np.array(
+                [r.variables.get(k, np.nan) if r.variables else np.nan for r in self.results]
+            )
+            cols.append((k, unit, np.ma.MaskedArray(vals, ~ok)))
+        return tables.table(cols)
+
+    def to_csv(self, path=None):
+        """One row per point: the bound on ``second``, status, success, nondominated, both
+        measures (empty where the solve failed) and the design variables, in display units
+        with the unit in each column name. Written to ``path`` (returns it) or returned as
+        text."""
+        from .. import tables
+
+        return tables.write_csv(self._table(), path)
 
     def plot(self, ax=None, title: str | None = None):
-        """The front: ``second`` on x, ``first`` on y (radians shown in degrees); non-dominated
-        points joined, dominated points hollow, the two anchors marked. Returns the figure."""
-        import matplotlib
-
-        matplotlib.use("Agg")
+        """The front in display units: ``second`` on x, ``first`` on y, axes named in words;
+        non-dominated points joined, dominated points hollow, the two anchors marked; the
+        legend below the axes. Returns the figure."""
         import matplotlib.pyplot as plt
 
-        own = ax is None
-        fig = plt.figure(figsize=(7, 5), layout="constrained") if own else ax.figure
-        ax = fig.add_subplot() if own else ax
+        from .. import display
+        from ..plotting import PALETTE, style
 
-        def show(values, unit):
-            if unit == "rad":
-                return np.rad2deg(values), "deg"
-            return values, unit
-
-        y, uy = show(self.first.data, self.units[0])
-        x, ux = show(self.second.data, self.units[1])
-        nd = self.nondominated
-        order = np.flatnonzero(nd)[np.argsort(x[nd])]
-        ax.plot(x[order], y[order], "-o", color="C0", ms=5, label="non-dominated designs")
-        dom = self.success & ~nd
-        if dom.any():
-            ax.plot(x[dom], y[dom], "o", mfc="none", color="0.5", label="dominated")
-        ends = [i for i in (0, self.n_points - 1) if self.success[i]]
-        if ends:
-            ax.plot(x[ends], y[ends], "s", ms=9, mfc="none", color="C3", label="anchors")
-        if (~self.success).any():
-            ax.plot([], [], "x", color="C3", label=f"{int((~self.success).sum())} failed solves")
-        ax.set_xlabel(f"{self.second_name}, {ux}" if ux else self.second_name)
-        ax.set_ylabel(f"{self.first_name}, {uy}" if uy else self.first_name)
-        ax.grid(True, alpha=0.4)
-        ax.legend(fontsize=8)
-        ax.set_title(
-            title
-            or f"Pareto front ({self.senses[0]} {self.first_name}, "
-            f"{self.senses[1]} {self.second_name})",
-            fontsize=10,
-        )
+        with style():
+            own = ax is None
+            fig = plt.figure(figsize=(7, 5.5), layout="constrained") if own else ax.figure
+            ax = fig.add_subplot() if own else ax
+            y, uy = display.convert(self.first.data, self.units[0])
+            x, ux = display.convert(self.second.data, self.units[1])
+            ly, lx = self.labels()
+            nd = self.nondominated
+            order = np.flatnonzero(nd)[np.argsort(x[nd])]
+            ax.plot(x[order], y[order], "-o", color=PALETTE[4], ms=5, label="non-dominated designs")
+            dom = self.success & ~nd
+            if dom.any():
+                ax.plot(x[dom], y[dom], "o", mfc="none", color="0.5", label="dominated")
+            ends = [i for i in (0, self.n_points - 1) if self.success[i]]
+            if ends:
+                ax.plot(
+                    x[ends],
+                    y[ends],
+                    "s",
+                    ms=10,
+                    mfc="none",
+                    color=PALETTE[5],
+                    label="anchors (one measure alone)",
+                )
+            if (~self.success).any():
+                ax.plot(
+                    [],
+                    [],
+                    "x",
+                    color=PALETTE[5],
+                    label=f"{int((~self.success).sum())} failed solves",
+                )
+            ax.set_xlabel(f"{lx}, {ux}" if ux else lx)
+            ax.set_ylabel(f"{ly}, {uy}" if uy else ly)
+            ax.margins(0.08)
+            ax.set_title(
+                title
+                or f"Pareto front: {self.senses[0]}imize {ly} against {self.senses[1]}imize {lx}",
+                fontsize=10,
+            )
+            if own:
+                fig.legend(loc="outside lower center", ncol=2, fontsize=8)
+            else:
+                ax.legend(fontsize=8)
         return fig
 
 
@@ -250,7 +277,7 @@ def pareto_front(
         Failed solves are recorded (``success``), never raised; when an anchor fails, the sweep
         stops there and the front holds what was solved.
     """
-    from tqdm.auto import tqdm
+    from ..progress import bar as progress_bar
 
     t0 = time.perf_counter()
     if eps is not None:
@@ -282,7 +309,7 @@ def pareto_front(
         return true_value(p, first, res.design), true_value(p, second, res.design)
 
     results, eps_list, vals = [], [], []  # per point, anchors first and last
-    bar = tqdm(total=n, disable=None if progress is None else not progress, desc="pareto")
+    bar = progress_bar(total=n, desc="Pareto front", enabled=progress, unit="point")
     # anchor 1: first alone
     p1, r1 = solve(first, senses[0], n_starts=anchor_starts)
     results.append(r1)
@@ -347,6 +374,7 @@ def chart_pareto_slider_crank(out, options):
     """``mechsynth chart slider-crank-pareto``: peak slider acceleration against max pressure
     angle at a fixed stroke. Options: stroke=0.1 (m), rpm=600, n=7 (points, anchors included),
     starts=4, anchor_starts=8, crank=0.01:0.2, rod=0.05:0.2, offset=-0.1:0.1 (m)."""
+    from .. import display
     from ..kinematics.slider_crank import SliderCrank
     from ..objectives.kinematic import max_pressure_angle, peak_acceleration, stroke
     from ..report import StudyResult
@@ -396,23 +424,26 @@ def chart_pareto_slider_crank(out, options):
         (out / "slider_crank_pareto.json").write_text(dumps(fr.to_dict()) + "\n")
         files.append(out / "slider_crank_pareto.json")
         fig = fr.plot(
-            title=f"Slider-crank, stroke {H * 1e3:g} mm, {speed_rpm:g} rpm: peak acceleration "
-            "vs max pressure angle"
+            title=f"Slider-crank, stroke {display.fmt(H, 'm', 4)} at {speed_rpm:g} rpm: "
+            "Pareto front of peak acceleration and pressure angle"
         )
         fig.savefig(out / "slider_crank_pareto.png", dpi=120)
         plt.close(fig)
         files.append(out / "slider_crank_pareto.png")
+    du = display.current()
+    acc_unit, ang_unit = du.unit("m/s^2"), du.unit("rad")
     lines = [
-        f"Pareto front, slider-crank stroke {H:g} m at {speed_rpm:g} rpm ({fr.n_points} points, "
-        f"{fr.solve_time:.1f} s):",
-        f"  {'max pressure angle, deg':>24s} {'peak acceleration, m/s^2':>25s}  status",
+        f"Pareto front, slider-crank stroke {display.fmt(H, 'm')} at {speed_rpm:g} rpm "
+        f"({fr.n_points} points, {fr.solve_time:.1f} s):",
+        f"  {'max pressure angle, ' + ang_unit:>24s} {'peak acceleration, ' + acc_unit:>25s}"
+        "  status",
     ]
     for i, r in enumerate(fr.results):
         if fr.success[i]:
             mark = "" if fr.nondominated[i] else " (dominated)"
-            lines.append(
-                f"  {np.rad2deg(fr.second[i]):24.4f} {fr.first[i]:25.7g}  {r.status}{mark}"
-            )
+            pa = display.convert(float(fr.second[i]), "rad")[0]
+            acc = display.convert(float(fr.first[i]), "m/s^2")[0]
+            lines.append(f"  {pa:24.4f} {acc:25.7g}  {r.status}{mark}")
         else:
             lines.append(f"  {'-':>24s} {'-':>25s}  {r.status}: {r.message}")
     data = fr.to_dict()

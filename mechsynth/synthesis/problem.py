@@ -289,7 +289,7 @@ class Problem:
         """
         from .solvers import solve
 
-        return solve(
+        res = solve(
             self,
             method=method,
             starts=starts,
@@ -303,6 +303,26 @@ class Problem:
             polish=polish,
             de_options=de_options,
         )
+        return self._annotate(res)
+
+    def _annotate(self, res):
+        """The result with the problem's variable bounds and measure units (for reports)."""
+        import dataclasses
+
+        by_name = {c.name: c for c in self.constraints}
+        cons = tuple(
+            dataclasses.replace(
+                cv, measure=by_name[cv.name].measure.name, unit=by_name[cv.name].measure.unit
+            )
+            if cv.name in by_name
+            else cv
+            for cv in res.constraints
+        )
+        measures = [c.measure for c in self.constraints]
+        if self.objective is not None:
+            measures.append(self.objective)
+        units = {m.name: getattr(m, "unit", "") for m in measures}
+        return dataclasses.replace(res, bounds=dict(self.variables), units=units, constraints=cons)
 
     def __repr__(self) -> str:
         obj = "no objective" if self.objective is None else f"{self.sense} {self.objective.name}"

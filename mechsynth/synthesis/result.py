@@ -30,6 +30,7 @@ def _name(design) -> str:
     """A design's name: a linkage's own name, else its class name."""
     return getattr(design, "__name__", type(design).__name__)
 
+
 STATUSES = ("optimal", "infeasible", "max_iterations", "uncertified", "solver_failed")
 
 
@@ -44,6 +45,7 @@ class ConstraintValue:
     op, bound : the comparison and its right-hand side.
     violation : how far outside the constraint (0 when it holds).
     satisfied : ``violation <= tol * max(1, |bound|)``.
+    measure, unit : the measure's name and SI unit (for reports in display units).
     """
 
     name: str
@@ -52,6 +54,21 @@ class ConstraintValue:
     bound: float
     violation: float
     satisfied: bool
+    measure: str = ""
+    unit: str = ""
+
+    @property
+    def active(self) -> bool:
+        """True for an inequality that holds with equality (within its tolerance)."""
+        return self.op != "==" and abs(self.value - self.bound) <= 1e-6 * max(1.0, abs(self.bound))
+
+    def text(self) -> str:
+        """``"max_pressure_angle <= 30 deg"`` in display units."""
+        from .. import display
+
+        if not self.measure:
+            return self.name
+        return f"{self.measure} {self.op} {display.fmt(self.bound, self.unit)}"
 
     def to_dict(self) -> dict[str, Any]:
         return dict(
@@ -61,6 +78,7 @@ class ConstraintValue:
             bound=self.bound,
             violation=self.violation,
             satisfied=self.satisfied,
+            unit=self.unit,
         )
 
 
@@ -158,6 +176,8 @@ class Result:
     certification : :class:`Certification`.
     solve_time : wall-clock seconds of the whole solve (all starts, refinement, dense checks).
     speed : crank speed (rad/s) the measures use, None for analogs.
+    bounds : ``{name: (lower, upper)}`` of the variables (SI).
+    units : ``{measure name: SI unit}`` of the objective's and the constraints' measures.
     """
 
     design: Any
@@ -173,11 +193,40 @@ class Result:
     solve_time: float
     speed: float | None = None
     extra: dict[str, Any] = field(default_factory=dict)
+    bounds: dict[str, tuple[float, float]] = field(default_factory=dict)
+    units: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def objective_unit(self) -> str:
+        """SI unit of the objective (empty when not known)."""
+        return self.units.get(self.objective, "")
 
     @property
     def violated(self) -> list[ConstraintValue]:
         """The constraints that do not hold at the reported design."""
         return [c for c in self.constraints if not c.satisfied]
+
+    @property
+    def values(self) -> dict[str, Any] | None:
+        """Every parameter of the design as a plain dict (SI numbers, and words such as
+        ``branch``), so that ``type(res.design)(**res.values)`` builds it again; None without
+        a design."""
+        return None if self.design is None else self.design.as_dict()
+
+    def on_bounds(self, rtol: float = 1e-6) -> dict[str, str]:
+        """``{variable: "lower" | "upper"}`` for the variables that ended within ``rtol`` of the
+        box width of a bound: the optimum may lie outside the box."""
+        out = {}
+        for name, (lo, hi) in self.bounds.items():
+            v = self.variables.get(name)
+            if v is None:
+                continue
+            tol = rtol * (hi - lo)
+            if abs(v - lo) <= tol:
+                out[name] = "lower"
+            elif abs(v - hi) <= tol:
+                out[name] = "upper"
+        return out
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict (``mechsynth.jsonutil.dumps``)."""
@@ -185,7 +234,11 @@ class Result:
             mechanism=_name(self.design) if self.design is not None else None,
             variables=self.variables,
             design=self.design.params() if self.design is not None else None,
+            values=self.values,
+            bounds={k: list(v) for k, v in self.bounds.items()},
+            on_bounds=self.on_bounds(),
             value=self.value,
+            units=dict(self.units),
             objective=self.objective,
             sense=self.sense,
             constraints=[c.to_dict() for c in self.constraints],
@@ -199,11 +252,26 @@ class Result:
 
     # ----------------------------------------------------------------------- text
     def report(self) -> str:
-        """A plain-text report: status, design, objective, constraints, certification."""
+        """A plain-text report in display units (:func:`mechsynth.display_units`): status,
+        design (variables on a bound of their box flagged), objective, constraints (active ones
+        flagged), certification. Crank angles are given in [0, 360) deg."""
+        from .. import display
+
         c = self.certification
+        du = display.current()
+        mech = type(self.design) if self.design is not None else None
+
+        def unit_of(name):
+            return mech.parameter_unit(name) if mech is not None else "m"
+
+        def num(value, unit, digits=10):
+            if not np.isfinite(value):
+                return "nan"
+            return display.fmt(value, unit, digits)
+
         lines = [
             f"status: {self.status} ({'success' if self.success else 'FAILED'}) - {self.message}",
-            f"{self.sense}imize {self.objective} = {self.value:.10g}",
+            f"{self.sense}imize {self.objective} = {num(self.value, self.objective_unit)}",
         ]
         speed = (
             "analogs (crank speed 1 rad/s)"
@@ -211,28 +279,48 @@ class Result:
             else (f"{self.speed:.6g} rad/s ({self.speed * 60 / (2 * np.pi):.6g} rpm)")
         )
         lines.append(f"crank speed: {speed}")
-        lines.append("design:")
+        lines.append(f"design ({du.name} units):")
+        edges = self.on_bounds()
         if self.design is not None:
             for k, v in self.design.params().items():
-                mark = " (variable)" if k in self.variables else ""
-                lines.append(f"  {k:>12s} = {float(v):.10g}{mark}")
+                mark = ""
+                if k in self.variables:
+                    mark = " (variable)"
+                    if k in edges:
+                        lo, hi = self.bounds[k]
+                        b = lo if edges[k] == "lower" else hi
+                        mark = (
+                            f" (variable, ON ITS {edges[k].upper()} BOUND {num(b, unit_of(k), 6)})"
+                        )
+                lines.append(f"  {k:>12s} = {num(float(v), unit_of(k))}{mark}")
         else:
             for k, v in self.variables.items():
-                lines.append(f"  {k:>12s} = {v:.10g} (not a valid design)")
+                lines.append(f"  {k:>12s} = {num(v, unit_of(k))} (not a valid design)")
+        if edges:
+            lines.append(
+                f"  on a bound: {', '.join(edges)} - the optimum may lie outside the box; "
+                "widen it to check"
+            )
         if self.constraints:
             lines.append("constraints:")
             for cv in self.constraints:
-                flag = "ok" if cv.satisfied else f"VIOLATED by {cv.violation:.3g}"
-                lines.append(f"  {cv.name:40s} value {cv.value:.10g}  [{flag}]")
+                if not cv.satisfied:
+                    flag = f"VIOLATED by {num(cv.violation, cv.unit, 3)}"
+                else:
+                    flag = "ok, active" if cv.active else "ok"
+                lines.append(f"  {cv.text():40s} value {num(cv.value, cv.unit)}  [{flag}]")
         lines.append(
             f"certification ({c.method}): {c.starts_run} starts run ({c.starts_skipped} invalid "
             f"skipped), {c.starts_converged} converged; {c.distinct_optima} distinct local "
             f"optima, spread {c.spread:.3g}; {c.best_hits} start(s) reached the reported one"
         )
         for p in c.peaks:
+            at = display.angle_position(p.angle)
+            shown = f"{at:.4f} deg" if du.angle == "deg" else f"{at:.6f} rad"
+            unit = self.units.get(p.name, "")
             lines.append(
-                f"  peak {p.name}: grid {p.grid_value:.12g}, true {p.true_value:.12g} at "
-                f"{np.rad2deg(p.angle):.6f} deg (gap {p.gap:.2g})"
+                f"  peak {p.name}: grid {num(p.grid_value, unit, 12)}, true "
+                f"{num(p.true_value, unit, 12)} at crank angle {shown} (gap {p.gap:.2g})"
             )
         lines.append(
             f"  {c.refinement_rounds} refinement round(s); {c.grid_angles} grid angles; "
@@ -249,13 +337,15 @@ class Result:
 
     # ----------------------------------------------------------------------- figure
     def plot(self, n=720, output=None):
-        """Motion curves of the design over one crank turn: position, velocity and acceleration
-        of the main output (slider, or the rocker's angle for a four-bar) and the pressure angle,
-        with the certified peak angles marked. Returns the matplotlib figure."""
-        import matplotlib
-
-        matplotlib.use("Agg")
+        """Motion curves of the design over one crank turn in display units: position, velocity
+        and acceleration of the main output (a slider; a link's angle, e.g. a four-bar's
+        rocker; or a point) and the pressure angle, with the certified peak angles marked.
+        Returns the matplotlib figure."""
         import matplotlib.pyplot as plt
+
+        from .. import display
+        from ..plotting import crank_axis, style
+        from ..plotting import title as make_title
 
         if self.design is None:
             raise ValueError(f"no valid design to plot (status {self.status})")
@@ -264,36 +354,46 @@ class Result:
         phi = cycle(n)
         m = self.design.motion(phi, speed=self.speed)
         deg = np.rad2deg(phi)
-        fig, axes = plt.subplots(4, 1, sharex=True, figsize=(7.5, 9), constrained_layout=True)
         analog = self.speed is None
         if output is None:
             output = "slider" if m.sliders else ("rocker" if "rocker" in m.links else "B")
         if output in m.links:
             tr = m.links[output]
-            series = (np.rad2deg(tr.angle), tr.omega, tr.epsilon)
-            units = ("deg", "rad/rad" if analog else "rad/s", "rad/rad²" if analog else "rad/s²")
-            labels = (f"{output} angle", f"{output} ω", f"{output} ε")
+            series = (np.unwrap(np.asarray(tr.angle, dtype=float)), tr.omega, tr.epsilon)
+            units = ("rad", "rad/rad" if analog else "rad/s", "rad/rad^2" if analog else "rad/s^2")
+            labels = (f"{output} angle", f"{output} angular velocity", f"{output} ang. acc.")
         elif output == "slider" or output in m.sliders:
             tr = m.slider if output == "slider" else m.sliders[output]
             series = (tr.position, tr.velocity, tr.acceleration)
-            units = ("m", "m/rad" if analog else "m/s", "m/rad²" if analog else "m/s²")
+            units = ("m", "m/rad" if analog else "m/s", "m/rad^2" if analog else "m/s^2")
             labels = ("slider position", "slider velocity", "slider acceleration")
         else:
             tr = m.points[output]
             series = (tr.x, tr.velocity, tr.acceleration)
-            units = ("m", "m/rad" if analog else "m/s", "m/rad²" if analog else "m/s²")
-            labels = (f"{output} x", f"|v {output}|", f"|a {output}|")
-        for ax, y, u, lab in zip(axes, series, units, labels):
-            ax.plot(deg, np.asarray(y), lw=1.5)
-            ax.set_ylabel(f"{lab}, {u}")
-        axes[3].plot(deg, np.rad2deg(np.asarray(m.pressure_angle)), lw=1.5, color="C3")
-        axes[3].set_ylabel("pressure angle, deg")
-        for p in self.certification.peaks:
-            for ax in axes:
-                ax.axvline(np.rad2deg(p.angle), color="0.5", lw=0.8, ls="--")
-        axes[-1].set_xlabel("crank angle, deg")
-        for ax in axes:
-            ax.grid(True, alpha=0.4)
-        title = f"{_name(self.design)}: {self.sense} {self.objective} = {self.value:.6g}"
-        axes[0].set_title(f"{title}\n(dashed: certified peak angles; status {self.status})")
+            units = ("m", "m/rad" if analog else "m/s", "m/rad^2" if analog else "m/s^2")
+            labels = (f"{output} x", f"speed |v| of {output}", f"acceleration |a| of {output}")
+        with style():
+            fig, axes = plt.subplots(4, 1, sharex=True, figsize=(7.5, 9), layout="constrained")
+            for ax, y, u, lab in zip(axes, series, units, labels):
+                yv, shown = display.convert(np.asarray(y, dtype=float), u)
+                ax.plot(deg, yv, lw=1.5)
+                ax.set_ylabel(f"{lab}, {shown}")
+            pa, shown = display.convert(np.asarray(m.pressure_angle, dtype=float), "rad")
+            axes[3].plot(deg, pa, lw=1.5, color="#D55E00")
+            axes[3].set_ylabel(f"pressure angle, {shown}")
+            for p in self.certification.peaks:
+                for ax in axes:
+                    ax.axvline(display.angle_position(p.angle, "deg"), color="0.5", lw=0.8, ls="--")
+            crank_axis(axes[-1])
+            value = (
+                display.fmt(self.value, self.objective_unit, 6)
+                if np.isfinite(self.value)
+                else "nan"
+            )
+            head = f"{self.sense} {self.objective} = {value}; status {self.status}"
+            axes[0].set_title(
+                make_title(self.design.describe(), "", self.speed)
+                + f"\n{head} (dashed: certified peak angles)",
+                fontsize=9,
+            )
         return fig

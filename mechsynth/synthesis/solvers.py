@@ -269,10 +269,9 @@ def _start_points(problem, tr: Transcription, starts, seed, x0):
 
 
 def _progress(iterable, total, progress, desc):
-    from tqdm.auto import tqdm
+    from ..progress import bar
 
-    disable = None if progress is None else not progress
-    return tqdm(iterable, total=total, disable=disable, desc=desc, leave=False)
+    return bar(iterable, total=total, desc=desc, enabled=progress)
 
 
 # ------------------------------------------------------------------------------ certification

@@ -10,6 +10,9 @@ place.
 The synthesis study is ``mechsynth study run dwell`` (:mod:`mechsynth.studies.dwell`).
 """
 
+from ...synthesis.design_file import register_design
 from .linkage import DwellSliderCrank
 
 __all__ = ["DwellSliderCrank"]
+
+register_design("dwell", DwellSliderCrank)

@@ -26,7 +26,14 @@ import numpy as np
 
 from ...kinematics import ops
 from ...kinematics.blocks import coupler_point
-from ...kinematics.mechanism import Mechanism, check_finite, check_length, fail_where, speed_pair
+from ...kinematics.mechanism import (
+    Mechanism,
+    as_angles,
+    check_finite,
+    check_length,
+    fail_where,
+    speed_pair,
+)
 from ...kinematics.slider_crank import SliderCrank
 from ...kinematics.tracks import Jet, LinkTrack, Motion, PointJet, PointTrack, SliderTrack
 
@@ -62,6 +69,9 @@ class DwellSliderCrank(Mechanism):
 
     parameters: ClassVar[tuple[str, ...]] = ("r", "k", "gamma")
     default_output: ClassVar[str] = "C"
+    parameter_units: ClassVar[dict[str, str]] = {"r": "", "k": "", "gamma": "rad", "xi": "rad"}
+    trace_points: ClassVar[tuple[str, ...]] = ("C",)
+    output_label: ClassVar[str] = "link 5"
 
     def __post_init__(self):
         object.__setattr__(self, "r", check_length("r", self.r))
@@ -87,7 +97,7 @@ class DwellSliderCrank(Mechanism):
         """Jet of the coupler point C (position and crank-angle analogs)."""
         u = self.k * self.rod * ops.cos(self.gamma)
         v = self.k * self.rod * ops.sin(self.gamma)
-        a, _, _, rod = self.slider_crank.jets(phi)
+        a, _, _, rod = self.slider_crank.jets(as_angles(phi))
         return coupler_point(a, rod, u, v)
 
     def coupler_curve(self, phi):
@@ -112,6 +122,7 @@ class DwellSliderCrank(Mechanism):
         (rad/s) velocities and accelerations are in time, otherwise crank-angle analogs.
         """
         omega, eps = speed_pair(speed, epsilon)
+        phi = as_angles(phi)
         sc = self.slider_crank
         a, b, s, rod = sc.jets(phi)
         u = self.k * self.rod * ops.cos(self.gamma)
@@ -138,4 +149,42 @@ class DwellSliderCrank(Mechanism):
             sliders=sliders,
             pressure_angle=pressure,
             transmission_angle=np.pi / 2 - pressure,
+        )
+
+    def sketch(self, phi):
+        """Drawing description at crank angles ``phi``: crank OA, the bent rod as the plate A-B-C,
+        slider B on the x axis and, with ``xi`` set, link 5: a slot through C at ``xi`` on a
+        stem F-G that slides on a fixed guide perpendicular to the slot."""
+        from ..units import cycle
+        from .sketch import Bar, Sketch, Slider, as_frames
+
+        phi = np.atleast_1d(as_angles(phi))
+        m = self.motion(phi)
+        points = as_frames(m.points)
+        bars = [Bar("crank", ("O", "A")), Bar("rod", ("A", "B", "C"), closed=True)]
+        sliders = [Slider("B", 0.0)]
+        if self.xi is not None:
+            xi = float(self.xi)
+            u, n = np.array([np.cos(xi), np.sin(xi)]), np.array([-np.sin(xi), np.cos(xi)])
+            x, y = self.coupler_curve(cycle(360))
+            t = np.asarray(x) * u[0] + np.asarray(y) * u[1]
+            mid = 0.5 * (float(t.min()) + float(t.max()))
+            s5 = np.asarray(m.sliders["5"].position, dtype=float)
+            # the stem leaves the slot on the side away from the crank pivot
+            side = 1.0 if float(np.mean(s5)) >= 0 else -1.0
+            f = s5[:, None] * n + mid * u
+            g = f + side * 0.35 * float(self.rod) * n
+            points["F"] = (f[:, 0], f[:, 1])
+            points["G"] = (g[:, 0], g[:, 1])
+            bars.append(Bar("link 5", ("F", "G")))
+            sliders += [Slider("C", xi, through="F"), Slider("G", xi + np.pi / 2)]
+        return Sketch(
+            points=points,
+            bars=tuple(bars),
+            ground=("O",),
+            sliders=tuple(sliders),
+            angles=phi,
+            name=self.describe(),
+            labels=("O", "A", "B", "C"),
+            joints=("A", "B", "C", "G"),
         )

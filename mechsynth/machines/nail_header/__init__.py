@@ -9,7 +9,10 @@
 ``ms.NailHeader`` is its public name; the study is ``mechsynth study run nail-header``.
 """
 
+from ...synthesis.design_file import register_design
 from .drive import MOTOR_ASSUMPTION, nail_header_speed_fluctuation
 from .model import NailHeader
 
 __all__ = ["NailHeader", "MOTOR_ASSUMPTION", "nail_header_speed_fluctuation"]
+
+register_design("nail-header", NailHeader)

@@ -32,7 +32,7 @@ from ...dynamics.kinetostatics import (
 from ...dynamics.loads import G, Gravity, PointForce, TorsionSpring, upsetting_force
 from ...kinematics import ops
 from ...kinematics.blocks import coupler_point, crank, dyad_rpr, dyad_rrp
-from ...kinematics.mechanism import Mechanism, check_finite, check_length, speed_pair
+from ...kinematics.mechanism import Mechanism, as_angles, check_finite, check_length, speed_pair
 from ...kinematics.tracks import Jet, LinkTrack, Motion, PointJet, PointTrack, SliderTrack
 
 __all__ = ["NailHeader"]
@@ -97,6 +97,10 @@ class NailHeader(Mechanism):
 
     parameters: ClassVar[tuple[str, ...]] = ("l_oa", "l_ab", "m3", "counterweight")
     default_output: ClassVar[str] = "slider"
+    parameter_units: ClassVar[dict[str, str]] = {"m3": "kg", "counterweight": "kg m"}
+    #: the machine turns clockwise: decreasing phi
+    turn_sign: ClassVar[int] = -1
+    output_label: ClassVar[str] = "punch slider"
 
     def __post_init__(self):
         for name in ("l_oa", "l_ab", "l_de", "l_es5", "x_bc", "h", "d", "l_blank", "cw_radius"):
@@ -115,6 +119,7 @@ class NailHeader(Mechanism):
 
     # ------------------------------------------------------------------ kinematics
     def jets(self, phi):
+        phi = as_angles(phi)
         a = crank(phi, self.l_oa)
         b, s, rod = dyad_rrp(a, self.l_ab, 0.0, 0.0, 0.0, branch=1, phi=phi)
         c = PointJet(b.x + self.x_bc, b.y + self.y_c, b.dx, b.dy, b.ddx, b.ddy)
@@ -136,6 +141,7 @@ class NailHeader(Mechanism):
         ``rod``, ``ejector``; sliders ``B`` (x of B) and ``slot`` (C along the ejector).
         """
         omega, eps = speed_pair(speed, epsilon)
+        phi = as_angles(phi)
         a, b, s, rod, c, e, th5, s5 = self.jets(phi)
         zero = 0.0 * a.x
         d = coupler_point(e, th5, 0.0, self.l_de)
@@ -156,6 +162,40 @@ class NailHeader(Mechanism):
                 "slot": SliderTrack.from_jet(s5, omega, eps),
             },
             pressure_angle=ops.arcsin(ops.fabs(a.y) / self.l_ab),
+        )
+
+    def sketch(self, phi):
+        """Drawing description at crank angles ``phi`` (rad, ccw; the machine turns clockwise):
+        crank OA, rod AB, the punch slider from B to C on its guide, the ejector E-D with the
+        slot in which the block at C slides. The angle shown is the clockwise angle from the
+        outer dead centre."""
+        from ..kinematics.sketch import Bar, Sketch, Slider, as_frames
+
+        phi = np.atleast_1d(as_angles(phi))
+        m = self.motion(phi)
+        points = as_frames(m.points)
+        # the ejector's arm runs from its pivot E over D along the slot past C's travel
+        th5 = np.asarray(m.links["ejector"].angle, dtype=float)
+        dx, dy = points["D"]
+        cx, cy = points["C"]
+        along = (cx - dx) * np.cos(th5) + (cy - dy) * np.sin(th5)
+        reach = float(along.max()) + 0.02
+        points["S"] = (dx + reach * np.cos(th5), dy + reach * np.sin(th5))
+        return Sketch(
+            points=points,
+            bars=(
+                Bar("crank", ("O", "A")),
+                Bar("rod", ("A", "B")),
+                Bar("slider", ("B", "C")),
+                Bar("ejector", ("E", "D", "S")),
+            ),
+            ground=("O", "E"),
+            sliders=(Slider("B", 0.0), Slider("C", th5, through="D")),
+            angles=-phi,
+            angle_label="clockwise crank angle from the outer dead centre",
+            name=self.describe(),
+            labels=("O", "A", "B", "C", "E"),
+            joints=("A", "B", "C"),
         )
 
     # ------------------------------------------------------------------ loads

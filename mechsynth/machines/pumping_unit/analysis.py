@@ -25,7 +25,7 @@ Unit file (TOML; top-level keys)::
 
 A dynamometer card (``--card card.csv``) has ``position, load`` rows in the unit file's units
 (in and lb, or m and N). Everything is computed in SI; ``--units oilfield`` prints in, lb, in-lb
-and SPM, ``--units si`` m, N, N m and rad/s.
+and SPM, ``--units si`` m, N, N m and rad/s, ``--units mm-deg`` mm, N and N m.
 """
 
 from __future__ import annotations
@@ -67,6 +67,14 @@ OUTPUT_UNITS = {
         "force": ("N", 1.0),
         "torque": ("N m", 1.0),
         "tf": ("m", 1.0),
+    },
+    "mm-deg": {
+        "length": ("mm", 1e3),
+        "speed": ("mm/s", 1e3),
+        "accel": ("mm/s^2", 1e3),
+        "force": ("N", 1.0),
+        "torque": ("N m", 1.0),
+        "tf": ("mm", 1e3),
     },
     "oilfield": {
         "length": ("in", 1.0 / INCH),
@@ -164,7 +172,7 @@ def analyze(unit_file, card=None, out=None, units="oilfield", n=720) -> StudyRes
     the output ``units``, named in ``data["units"]``); ``data["success"]`` is False when the
     counterbalance optimization fails."""
     if units not in OUTPUT_UNITS:
-        raise ValueError(f"units must be 'si' or 'oilfield', got {units!r}")
+        raise ValueError(f"units must be one of {', '.join(OUTPUT_UNITS)}, got {units!r}")
     unit, op = load_unit(unit_file)
     U = OUTPUT_UNITS[units]
 
@@ -313,6 +321,11 @@ def _summary(d) -> str:
     return "\n".join(lines)
 
 
+def _name(data) -> str:
+    """The unit's designation for titles (or "pumping unit")."""
+    return data.get("designation") or "pumping unit"
+
+
 def _write(out, unit, theta, m, tc, pl, U, cv, data):
     import matplotlib
 
@@ -320,26 +333,26 @@ def _write(out, unit, theta, m, tc, pl, U, cv, data):
     import matplotlib.pyplot as plt
 
     from ...jsonutil import dumps
+    from ...plotting import PALETTE, crank_axis, style
+    from ...plotting import save as save_figure
 
     out.mkdir(parents=True, exist_ok=True)
     files = []
     x = np.rad2deg(theta)
-    fig, axes = plt.subplots(4, 1, sharex=True, figsize=(7, 9), constrained_layout=True)
-    series = (
-        (m.polished_rod.position, "length", "position"),
-        (m.polished_rod.velocity, "speed", "velocity"),
-        (m.polished_rod.acceleration, "accel", "acceleration"),
-        (m.torque_factor, "tf", "torque factor"),
-    )
-    for ax, (y, kind, label) in zip(axes, series):
-        ax.plot(x, np.asarray(y) * U[kind][1])
-        ax.set_ylabel(f"{label}, {U[kind][0]}")
-        ax.grid(True, alpha=0.4)
-    axes[-1].set_xlabel("crank angle from 12 o'clock, deg")
-    axes[0].set_title("Polished rod (exact kinematics)")
-    files.append(out / "polished_rod.png")
-    fig.savefig(files[-1], dpi=110)
-    plt.close(fig)
+    with style():
+        fig, axes = plt.subplots(4, 1, sharex=True, figsize=(7, 9), layout="constrained")
+        series = (
+            (m.polished_rod.position, "length", "position up from the bottom"),
+            (m.polished_rod.velocity, "speed", "velocity"),
+            (m.polished_rod.acceleration, "accel", "acceleration"),
+            (m.torque_factor, "tf", "torque factor"),
+        )
+        for ax, (y, kind, label) in zip(axes, series):
+            ax.plot(x, np.asarray(y) * U[kind][1], color=PALETTE[4])
+            ax.set_ylabel(f"{label}, {U[kind][0]}")
+        crank_axis(axes[-1], "crank angle θ from 12 o'clock in the direction of rotation")
+        axes[0].set_title(f"{_name(data)}: polished rod (exact kinematics)", fontsize=10)
+        files.append(save_figure(fig, out / "polished_rod.png", dpi=110))
 
     rows = torque_factor_table(unit, 15.0)
     with open(out / "torque_factor_table.csv", "w", newline="") as fh:
@@ -354,9 +367,8 @@ def _write(out, unit, theta, m, tc, pl, U, cv, data):
 
     if tc is not None:
         fig = tc.plot(scale=U["torque"][1], unit=U["torque"][0])
-        files.append(out / "torque.png")
-        fig.savefig(files[-1], dpi=110)
-        plt.close(fig)
+        fig.axes[0].set_title(f"{_name(data)}: gearbox torque", fontsize=10)
+        files.append(save_figure(fig, out / "torque.png", dpi=110))
         with open(out / "torque_curve.csv", "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(["crank_angle_deg", f"position_{U['length'][0]}",
@@ -370,25 +382,40 @@ def _write(out, unit, theta, m, tc, pl, U, cv, data):
                 w.writerow(row)
         files.append(out / "torque_curve.csv")
     if pl is not None:
-        fig, ax = plt.subplots(figsize=(7, 4), constrained_layout=True)
-        ok = np.isfinite(pl["upper"])
-        px = pl["position"] * U["length"][1]
-        up = pl["torque_factor"] > 0
-        ax.plot(px[ok & up], pl["upper"][ok & up] * U["force"][1], ".", ms=2, label="upstroke max")
-        ax.plot(px[ok & ~up], pl["lower"][ok & ~up] * U["force"][1], ".", ms=2,
-                label="downstroke min")  # fmt: skip
-        if tc is not None:
-            ax.plot(tc.position * U["length"][1], tc.load * U["force"][1], "k-", lw=1, label="card")
-        top = np.nanmax(np.where(ok, tc.load if tc is not None else 0, np.nan)) * U["force"][1]
-        ax.set_ylim(0, 2.0 * top if np.isfinite(top) and top > 0 else None)
-        ax.set_xlabel(f"polished-rod position, {U['length'][0]}")
-        ax.set_ylabel(f"load, {U['force'][0]}")
-        ax.set_title("Permissible load diagram (gearbox rating, counterbalance as set)")
-        ax.grid(True, alpha=0.4)
-        ax.legend()
-        files.append(out / "permissible_load.png")
-        fig.savefig(files[-1], dpi=110)
-        plt.close(fig)
+        with style():
+            fig, ax = plt.subplots(figsize=(7.5, 5), layout="constrained")
+            ok = np.isfinite(pl["upper"])
+            px = pl["position"] * U["length"][1]
+            up = pl["torque_factor"] > 0
+            f = U["force"][1]
+            ax.plot(
+                px[ok & up],
+                pl["upper"][ok & up] * f,
+                ".",
+                ms=2,
+                color=PALETTE[5],
+                label="permissible load, upstroke (maximum)",
+            )
+            ax.plot(
+                px[ok & ~up],
+                pl["lower"][ok & ~up] * f,
+                ".",
+                ms=2,
+                color=PALETTE[4],
+                label="permissible load, downstroke (minimum)",
+            )
+            if tc is not None:
+                ax.plot(tc.position * U["length"][1], tc.load * f, "k-", lw=1, label="card")
+            top = np.nanmax(np.where(ok, tc.load if tc is not None else 0, np.nan)) * f
+            ax.set_ylim(0, 2.0 * top if np.isfinite(top) and top > 0 else None)
+            ax.set_xlabel(f"polished-rod position, {U['length'][0]}")
+            ax.set_ylabel(f"load, {U['force'][0]}")
+            ax.set_title(
+                f"{_name(data)}: permissible load (gearbox rating, counterbalance as set)",
+                fontsize=10,
+            )
+            ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=3, markerscale=4)
+            files.append(save_figure(fig, out / "permissible_load.png", dpi=110))
     (out / "pump_analysis.json").write_text(dumps(data) + "\n")
     files.append(out / "pump_analysis.json")
     return files

@@ -45,6 +45,7 @@ from ...kinematics.blocks import dyad_rrr, link_angle
 from ...kinematics.four_bar import FourBar
 from ...kinematics.mechanism import (
     Mechanism,
+    as_angles,
     check_finite,
     check_length,
     fail_where,
@@ -91,6 +92,11 @@ class PumpMotion(Motion):
     (horsehead direction angle, its rate and acceleration), ``torque_factor`` (m/rad; always the
     crank-angle analog, also when the motion has a speed).
     """
+
+    extra_units: ClassVar[dict[str, str]] = {
+        "torque_factor": "m/rad",
+        "acceleration_analog": "m/rad^2",
+    }
 
     @property
     def polished_rod(self) -> SliderTrack:
@@ -186,6 +192,7 @@ class BeamPumpingUnit(Mechanism):
         "pivot_y",
     )
     default_output: ClassVar[str] = "slider"
+    output_label: ClassVar[str] = "polished rod"
 
     def __post_init__(self):
         for name in ("crank", "pitman", "rear_arm", "front_arm", "pivot_y"):
@@ -437,6 +444,7 @@ class BeamPumpingUnit(Mechanism):
         """Jets (analogs per rad of ``theta``) of A, B, the pitman angle, the rear-arm angle and
         the horsehead direction angle."""
         s = self.sense
+        theta = as_angles(theta)
         pin = crank_block(s * theta + np.pi / 2.0, self.crank)
         a = PointJet(pin.x, pin.y, s * pin.dx, s * pin.dy, pin.ddx, pin.ddy)
         zero = 0.0 * a.x
@@ -465,6 +473,7 @@ class BeamPumpingUnit(Mechanism):
         pitman force on B and B's velocity, ``|pi/2 - transmission|``).
         """
         omega, eps = speed_pair(speed, epsilon)
+        theta = as_angles(theta)
         a, b, pitman, rear, head = self.jets(theta)
         psi_bottom, _ = self.beam_limits
         pr = Jet(
@@ -508,32 +517,79 @@ class BeamPumpingUnit(Mechanism):
         psi_bottom, _ = self.beam_limits
         return self.front_arm * (self.jets(theta)[4].value - psi_bottom)
 
-    def draw(self, theta=0.0, ax=None, arc_deg=60.0, color="C0", alpha=1.0):
-        """Draw the linkage at crank angle ``theta`` (rad): crank, pitman, beam with its
-        horsehead face (``arc_deg`` wide) and the bridle. Returns the matplotlib axes."""
-        import matplotlib.pyplot as plt
+    def sketch(self, theta, arc_deg: float = 60.0):
+        """Drawing description at crank angles ``theta`` (rad, industry convention): crank,
+        pitman, the beam from the equalizer bearing over the centre bearing to the horsehead,
+        the horsehead face (``arc_deg`` wide), the bridle and polished rod, the Samson post."""
+        from ...kinematics.sketch import Bar, Outline, Sketch, as_frames
 
-        if ax is None:
-            _, ax = plt.subplots(figsize=(7, 5), constrained_layout=True)
-        m = self.motion(np.atleast_1d(np.asarray(theta, dtype=float)))
-        p = {k: (float(v.x[0]), float(v.y[0])) for k, v in m.points.items()}
-        psi = float(m.beam.angle[0])
-        ox, oy = p["O2"]
-        head = (ox + self.front_arm * np.cos(psi), oy + self.front_arm * np.sin(psi))
-        kw = dict(color=color, alpha=alpha, lw=2)
-        ax.plot(*zip(p["O1"], p["A"]), **kw)
-        ax.plot(*zip(p["A"], p["B"]), **kw)
-        ax.plot(*zip(p["B"], (ox, oy), head), **kw)
-        arc = psi + np.deg2rad(np.linspace(-arc_deg / 2, arc_deg / 2, 30))
-        ax.plot(ox + self.front_arm * np.cos(arc), oy + self.front_arm * np.sin(arc), **kw)
-        # the bridle leaves the horsehead face where it is vertical: level with the centre bearing
-        rod_x = ox + self.front_arm
-        ax.plot([rod_x, rod_x], [oy, -0.5], color=color, alpha=alpha, lw=1)
-        ax.plot(*zip(p["O1"], (ox, oy)), "k^", ms=9)
-        ax.set_aspect("equal")
-        ax.set_xlabel("x toward the well, m")
-        ax.set_ylabel("y, m")
-        return ax
+        theta = np.atleast_1d(as_angles(theta))
+        m = self.motion(theta)
+        points = as_frames(m.points, ["O1", "A", "B", "O2"])
+        ox, oy, a_len = float(self.pivot_x), float(self.pivot_y), float(self.front_arm)
+        psi = np.asarray(m.beam.angle, dtype=float)
+        points["H"] = (ox + a_len * np.cos(psi), oy + a_len * np.sin(psi))
+        arc = psi[:, None] + np.deg2rad(np.linspace(-arc_deg / 2, arc_deg / 2, 31))[None, :]
+        ground_y = -1.2 * float(self.crank)
+        # the bridle leaves the horsehead where the face is vertical, level with the centre
+        # bearing; the carrier bar rises with the polished rod
+        rod_x = ox + a_len
+        carrier = ground_y + 0.12 * a_len + np.asarray(m.polished_rod.position, dtype=float)
+        rod = np.full_like(carrier, rod_x)
+
+        def vertical(top, bottom):
+            return np.stack([rod, rod], 1), np.stack(np.broadcast_arrays(top, bottom), 1)
+
+        post = 0.3 * oy
+        outlines = (
+            Outline("horsehead", ox + a_len * np.cos(arc), oy + a_len * np.sin(arc)),
+            Outline("bridle", *vertical(oy, carrier), "thin"),
+            Outline(
+                "carrier bar",
+                rod[:, None] + 0.06 * a_len * np.array([-1.0, 1.0]),
+                np.stack([carrier, carrier], 1),
+            ),
+            Outline("polished rod", *vertical(carrier, ground_y), "thin"),
+            Outline(
+                "Samson post",
+                np.array([ox - post, ox, ox + post]),
+                np.array([ground_y, oy, ground_y]),
+                "frame",
+            ),
+            Outline(
+                "base",
+                np.array([min(0.0, ox) - post, max(rod_x, ox) + post]),
+                np.array([ground_y, ground_y]),
+                "frame",
+            ),
+        )
+        return Sketch(
+            points=points,
+            bars=(
+                Bar("crank", ("O1", "A")),
+                Bar("pitman", ("A", "B")),
+                Bar("beam", ("B", "O2", "H")),
+            ),
+            ground=("O1", "O2"),
+            outlines=outlines,
+            angles=theta,
+            angle_label="crank angle θ from 12 o'clock in the direction of rotation",
+            angle_symbol="θ",
+            name=self.describe(),
+            xlabel="x toward the well",
+            labels=("O1", "A", "B", "O2"),
+            joints=("A", "B"),
+        )
+
+    def describe(self) -> str:
+        return f"{super().describe()} ({self.unit_class}, {self.rotation})"
+
+    def draw(self, theta=0.0, ax=None, arc_deg=60.0, color=None, alpha=1.0, **kwargs):
+        """Draw the unit at crank angle ``theta`` (rad): crank, pitman, beam with its horsehead
+        face (``arc_deg`` wide), bridle and polished rod, Samson post (see
+        :meth:`Mechanism.draw <mechsynth.kinematics.Mechanism.draw>` for ``trace``, ``labels``
+        and ``title``). Returns the matplotlib axes."""
+        return super().draw(theta, ax, color=color, alpha=alpha, arc_deg=arc_deg, **kwargs)
 
     def __repr__(self) -> str:
         if self.is_symbolic or np.ndim(self.crank):

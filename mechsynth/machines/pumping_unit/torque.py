@@ -213,21 +213,25 @@ class TorqueCurve:
         }
 
     def plot(self, ax=None, scale=1.0, unit="N m"):
-        """Plot the net torque and its parts against the crank angle (degrees)."""
+        """Plot the net torque and its parts against the crank angle from 12 o'clock (deg), the
+        legend below the axes; ``scale`` converts N m into ``unit``. Returns the figure."""
         import matplotlib.pyplot as plt
 
-        if ax is None:
-            fig, ax = plt.subplots(figsize=(7, 4), constrained_layout=True)
-        x = np.rad2deg(self.theta)
-        ax.plot(x, self.well * scale, "--", label="well load TF(W - SU)")
-        ax.plot(x, -self.counterbalance * scale, ":", label="counterbalance")
-        if np.any(self.inertia):
-            ax.plot(x, self.inertia * scale, "-.", label="inertia")
-        ax.plot(x, self.net * scale, "k-", lw=2, label="net")
-        ax.set_xlabel("crank angle, deg")
-        ax.set_ylabel(f"gearbox torque, {unit}")
-        ax.grid(True, alpha=0.4)
-        ax.legend()
+        from ...plotting import PALETTE, crank_axis, style
+
+        with style():
+            if ax is None:
+                fig, ax = plt.subplots(figsize=(7.5, 4.8), layout="constrained")
+            x = np.rad2deg(self.theta)
+            ax.plot(x, self.well * scale, "--", color=PALETTE[4], label="well load TF(W - SU)")
+            ax.plot(x, -self.counterbalance * scale, ":", color=PALETTE[5], label="counterbalance")
+            if np.any(self.inertia):
+                ax.plot(x, self.inertia * scale, "-.", color=PALETTE[3], label="inertia")
+            ax.plot(x, self.net * scale, "k-", lw=2, label="net")
+            ax.axhline(0.0, color="0.4", lw=0.6)
+            crank_axis(ax, "crank angle θ from 12 o'clock in the direction of rotation")
+            ax.set_ylabel(f"gearbox torque, {unit}")
+            ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.18), ncol=4)
         return ax.figure
 
 
