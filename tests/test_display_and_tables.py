@@ -9,7 +9,7 @@ import pytest
 import mechsynth as ms
 from mechsynth import display, tables
 from mechsynth import objectives as ob
-from mechsynth.dynamics import NailHeader
+from mechsynth.machines.nail_header import NailHeader
 
 
 def test_presets_and_the_context_manager_restore_the_setting():

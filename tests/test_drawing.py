@@ -11,9 +11,9 @@ from matplotlib.animation import FuncAnimation  # noqa: E402
 from PIL import Image  # noqa: E402
 
 import mechsynth as ms  # noqa: E402
-from mechsynth.dynamics import NailHeader  # noqa: E402
-from mechsynth.kinematics import DwellSliderCrank  # noqa: E402
 from mechsynth.kinematics.sketch import Bar, Sketch  # noqa: E402
+from mechsynth.machines.dwell import DwellSliderCrank  # noqa: E402
+from mechsynth.machines.nail_header import NailHeader  # noqa: E402
 from mechsynth.plotting import layout_problems  # noqa: E402
 
 C320 = dict(A=155.0, C=111.06, I=111.02, P=132.01, R=42.01, H=231.97, G=95.98, units="in")

@@ -94,7 +94,7 @@ class DwellChart:
         return [dict(zip(FIELDS, (float(v[i]) for v in flat))) for i in range(flat[0].size)]
 
     def _table(self):
-        from .. import tables
+        from ... import tables
 
         g, kk, rr = (
             np.ravel(a) for a in np.meshgrid(self.gamma_deg, self.k, self.r, indexing="ij")
@@ -121,14 +121,14 @@ class DwellChart:
     def to_dict(self) -> dict[str, list]:
         """One column per quantity, one entry per design (angles in the display angle unit,
         lengths relative to the rod)."""
-        from .. import tables
+        from ... import tables
 
         return tables.as_lists(self._table())
 
     def to_csv(self, path=None):
         """The columns of :meth:`to_dict` as CSV, written to ``path`` (returns it) or returned
         as text."""
-        from .. import tables
+        from ... import tables
 
         return tables.write_csv(self._table(), path)
 
@@ -142,7 +142,7 @@ def dwell_chart_data(
     """Evaluate the dwell metrics on the grid ``r`` x ``k`` for each bend in ``gamma_deg``
     (one batch per bend, with a progress bar on a terminal); ``stroke`` is the chart's minimum
     relative stroke (see :class:`DwellChart`)."""
-    from ..progress import bar
+    from ...progress import bar
 
     r = np.asarray(r, dtype=float)
     k = np.asarray(k, dtype=float)
@@ -196,7 +196,7 @@ def plot_dwell_chart(chart: DwellChart, path=None):
     from matplotlib.patches import Patch
     from matplotlib.ticker import LogLocator, MaxNLocator
 
-    from ..plotting import PALETTE, label_contours, prune_labels, style
+    from ...plotting import PALETTE, label_contours, prune_labels, style
 
     ng = chart.gamma_deg.size
     rr, kk = np.meshgrid(chart.r, chart.k)

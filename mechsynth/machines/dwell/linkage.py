@@ -155,8 +155,8 @@ class DwellSliderCrank(Mechanism):
         """Drawing description at crank angles ``phi``: crank OA, the bent rod as the plate A-B-C,
         slider B on the x axis and, with ``xi`` set, link 5: a slot through C at ``xi`` on a
         stem F-G that slides on a fixed guide perpendicular to the slot."""
-        from ..units import cycle
-        from .sketch import Bar, Sketch, Slider, as_frames
+        from ...kinematics.sketch import Bar, Sketch, Slider, as_frames
+        from ...units import cycle
 
         phi = np.atleast_1d(as_angles(phi))
         m = self.motion(phi)

@@ -169,7 +169,7 @@ class NailHeader(Mechanism):
         crank OA, rod AB, the punch slider from B to C on its guide, the ejector E-D with the
         slot in which the block at C slides. The angle shown is the clockwise angle from the
         outer dead centre."""
-        from ..kinematics.sketch import Bar, Sketch, Slider, as_frames
+        from ...kinematics.sketch import Bar, Sketch, Slider, as_frames
 
         phi = np.atleast_1d(as_angles(phi))
         m = self.motion(phi)
