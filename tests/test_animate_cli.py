@@ -13,7 +13,14 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 
 @pytest.mark.parametrize(
-    "name", ["design_slider_crank", "design_dwell", "design_nail_header", "pump_unit_c320"]
+    "name",
+    [
+        "design_slider_crank",
+        "design_dwell",
+        "design_nail_header",
+        "design_six_link",
+        "pump_unit_c320",
+    ],
 )
 def test_animate_writes_a_still_and_a_gif(name, tmp_path, capsys):
     rc = main(

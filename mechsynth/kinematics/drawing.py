@@ -274,7 +274,7 @@ def _figsize(sketch: Sketch, width: float) -> tuple[float, float]:
     """A figure size whose axes fit the sketch's aspect ratio (titles and labels added)."""
     x0, x1, y0, y1 = sketch.extent()
     ratio = (y1 - y0 + 1e-12) / (x1 - x0 + 1e-12)
-    return width, float(np.clip(0.8 * width * ratio + 1.6, 3.0, 1.2 * width))
+    return width, float(np.clip(0.8 * width * ratio + 1.9, 3.4, 1.2 * width))
 
 
 def _prepare_axes(ax, scene: _Scene, sketch: Sketch, fresh: bool):
@@ -323,7 +323,7 @@ def draw_sketch(
     elif title is None and fresh:
         ax.set_title(f"{_wrapped(sketch.name)}\n{_angle_text(sketch, frame)}", fontsize=10)
     if trace:
-        ax.legend(loc="upper right", fontsize=8)
+        ax.legend(loc="best", fontsize=8)
     return ax
 
 
@@ -492,7 +492,7 @@ def animate_sketch(
     scene = _Scene(sketch, ax, trace=trace, color=color)
     _prepare_axes(ax, scene, sketch, fresh=True)
     if trace:
-        ax.legend(loc="upper right", fontsize=8)
+        ax.legend(loc="best", fontsize=8)
     head = title or _wrapped(sketch.name)
     # the still title is drawn once; the short line under it changes per frame
     fig.suptitle(f"{head}\n{sketch.angle_label}, {playback}", fontsize=9)

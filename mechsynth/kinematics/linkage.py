@@ -61,7 +61,7 @@ from .linkage_groups import (
     RRRGroup,
     _State,
 )
-from .mechanism import check_finite, check_length, speed_pair
+from .mechanism import Drawable, check_finite, check_length, speed_pair
 from .tracks import LinkTrack, Motion, PointJet, PointTrack, SliderTrack
 
 __all__ = ["Linkage", "Param", "Topology", "GuideLine", "Profile"]
@@ -178,7 +178,7 @@ class Topology:
     driver: str
 
 
-class Linkage:
+class Linkage(Drawable):
     """A planar linkage: ground points, a driving crank and groups in solving order.
 
     Parameters
@@ -750,6 +750,82 @@ class Linkage:
             val = f"{v:.6g}" if isinstance(v, float | int) else repr(v)
             lines.append(f"  {k:18s} = {val:>12s}   {self._roles[k]}")
         return "\n".join(lines)
+
+    def as_dict(self) -> dict[str, Any]:
+        """Every dimension as a plain Python value (``{name: float}``): enough to build the
+        design again with ``linkage(**values)`` (the protocol of the named mechanisms)."""
+        return {
+            k: float(v) if np.ndim(v) == 0 and not ops.is_symbolic(v) else v
+            for k, v in self._values.items()
+        }
+
+    def unit_of(self, name: str) -> str:
+        """SI unit of the parameter ``name``: ``"rad"`` for angles, ``"m"`` for the others."""
+        if name not in self._kinds:
+            raise ValueError(f"{self._name} has no parameter {name!r}")
+        return "rad" if self._kinds[name] == "angle" else "m"
+
+    # ------------------------------------------------------------------ drawing
+    def sketch(self, phi, **options):
+        """What the linkage looks like at crank angles ``phi`` (one design): each moving link
+        as a bar (a plate when it joins three or more points), the ground points as frame
+        pivots, every block on its guide (a slot through the carrying link when the guide
+        moves) and each cam profile as an outline; the renderer of :meth:`draw` and
+        :meth:`animate` draws it (see :mod:`mechsynth.kinematics.sketch`)."""
+        from .sketch import Bar, Outline, Sketch, Slider, as_frames
+
+        if options:
+            raise ValueError(f"unknown drawing option(s): {', '.join(sorted(options))}")
+        phi = np.atleast_1d(np.asarray(phi, dtype=float))
+        m = self.motion(phi)
+        topo = self.topology()
+        points = as_frames(m.points)
+        zero = np.zeros(phi.shape)
+        bars = []
+        for name in topo.bodies:
+            members = topo.points.get(name, ())
+            if len(members) >= 2:  # links, and blocks that carry attached points
+                bars.append(Bar(name, tuple(members), closed=len(members) >= 3))
+        sliders = []
+        for j in topo.joints:
+            if j.kind != "prismatic":
+                continue
+            angle = np.asarray(m.links[j.direction].angle, dtype=float) + zero
+            if j.by == FRAME:
+                sliders.append(Slider(j.point, angle, name=j.name))
+                continue
+            # a guide carried by a link: the slot along the guide line through the block,
+            # drawn from the foot of the carrier's base point on that line
+            base = topo.bodies[j.by].base
+            ux, uy = np.cos(angle), np.sin(angle)
+            (bx, by), (px, py) = points[base], points[j.point]
+            along = (px - bx) * ux + (py - by) * uy
+            foot = f"{j.name} foot"
+            points[foot] = (px - along * ux, py - along * uy)
+            if len(topo.points.get(j.by, ())) < 2:  # the carrier is drawn along its slot
+                end = f"{j.name} end"
+                reach = along + np.sign(along.mean() or 1.0) * 0.2 * np.abs(along).max()
+                points[end] = (points[foot][0] + reach * ux, points[foot][1] + reach * uy)
+                bars.append(Bar(j.by, (base, foot, end)))
+            sliders.append(Slider(j.point, angle, through=foot, name=j.name))
+        outlines = []
+        for prof in topo.profiles.values():
+            x, y = prof.world(m)
+            outlines.append(Outline(f"profile of {prof.follower}", x, y))
+        named = tuple(p for p in self.points if p in points)
+        moving = tuple(p for p in named if p not in topo.ground)
+        return Sketch(
+            points=points,
+            bars=tuple(bars),
+            ground=tuple(p for p in topo.ground if p in points),
+            sliders=tuple(sliders),
+            outlines=tuple(outlines),
+            angles=phi,
+            angle_label="crank angle φ",
+            name=self._name,
+            labels=named,
+            joints=moving,
+        )
 
     def __repr__(self) -> str:
         kinds = " + ".join(g.kind for g in self._groups) or "no groups"

@@ -106,77 +106,16 @@ def fail_where(condition, template: str, **values):
     raise MechanismError(template.format(at=at, **picked))
 
 
-class Mechanism:
-    """Base of the named mechanisms (frozen dataclasses of their parameters).
+class Drawable:
+    """Drawing and animation from a :meth:`sketch` (what a mechanism looks like at a set of
+    crank angles): shared by the named mechanisms and the general
+    :class:`~mechsynth.kinematics.Linkage`."""
 
-    Subclasses implement :meth:`motion`. ``parameters`` lists the numeric fields that a
-    :class:`~mechsynth.synthesis.Problem` may vary.
-    """
-
-    parameters: ClassVar[tuple[str, ...]] = ()
-    #: main output for objectives that name none ("slider" or a point name)
-    default_output: ClassVar[str] = "slider"
-    #: SI unit of each parameter for reports ("m" for the ones not listed)
-    parameter_units: ClassVar[dict[str, str]] = {}
     #: +1 when the machine runs with increasing crank angle, -1 when the other way
     turn_sign: ClassVar[int] = 1
     #: points whose paths drawings and animations trace by default
     trace_points: ClassVar[tuple[str, ...]] = ()
-    #: what reports and figures call the main slider ("polished rod" on a pumping unit)
-    output_label: ClassVar[str] = "slider"
 
-    def motion(self, phi, speed=None, epsilon=0.0, **kwargs) -> Motion:  # pragma: no cover
-        raise NotImplementedError
-
-    def replace(self, **changes) -> Mechanism:
-        """A copy with some parameters changed (validated again)."""
-        return dataclasses.replace(self, **changes)
-
-    def params(self) -> dict[str, Any]:
-        """The parameters as a dict ``{name: value}``."""
-        return {name: getattr(self, name) for name in self.parameters}
-
-    def as_dict(self) -> dict[str, Any]:
-        """Every field of the design as plain Python values (floats, strings, booleans): enough
-        to build it again with ``type(design)(**design.as_dict())``."""
-        out = {}
-        for f in dataclasses.fields(self):
-            v = getattr(self, f.name)
-            if isinstance(v, (bool, str)) or v is None:
-                out[f.name] = v
-            elif isinstance(v, (int, np.integer)):
-                out[f.name] = int(v)
-            elif isinstance(v, (float, np.floating)) or (isinstance(v, np.ndarray) and v.size == 1):
-                out[f.name] = float(v)
-            else:
-                out[f.name] = v
-        return out
-
-    @property
-    def is_symbolic(self) -> bool:
-        return ops.is_symbolic(*self.params().values())
-
-    @classmethod
-    def parameter_unit(cls, name: str) -> str:
-        """SI unit of the parameter ``name`` (for reports and tables)."""
-        return cls.parameter_units.get(name, "m")
-
-    def describe(self) -> str:
-        """The design in one line, in display units: ``"SliderCrank: crank 70 mm, rod 240 mm,
-        offset 10 mm"``."""
-        from .. import display
-
-        name = type(self).__name__
-        if self.is_symbolic:
-            return f"{name} (symbolic)"
-        if any(np.size(v) > 1 for v in self.params().values()):
-            return f"{name} (a batch of designs)"
-        parts = [
-            f"{k} {display.fmt(v, self.parameter_unit(k), 4)}" for k, v in self.params().items()
-        ]
-        return f"{name}: " + ", ".join(parts)
-
-    # ---------------------------------------------------------------- drawing
     def turn(self, n: int = 48):
         """``n`` crank angles over one turn in the machine's direction of rotation, from 0."""
         from ..units import cycle
@@ -267,3 +206,73 @@ class Mechanism:
             dpi=dpi,
             title=title,
         )
+
+
+class Mechanism(Drawable):
+    """Base of the named mechanisms (frozen dataclasses of their parameters).
+
+    Subclasses implement :meth:`motion`. ``parameters`` lists the numeric fields that a
+    :class:`~mechsynth.synthesis.Problem` may vary.
+    """
+
+    parameters: ClassVar[tuple[str, ...]] = ()
+    #: main output for objectives that name none ("slider" or a point name)
+    default_output: ClassVar[str] = "slider"
+    #: SI unit of each parameter for reports ("m" for the ones not listed)
+    parameter_units: ClassVar[dict[str, str]] = {}
+    #: what reports and figures call the main slider ("polished rod" on a pumping unit)
+    output_label: ClassVar[str] = "slider"
+
+    def motion(self, phi, speed=None, epsilon=0.0, **kwargs) -> Motion:  # pragma: no cover
+        raise NotImplementedError
+
+    def replace(self, **changes) -> Mechanism:
+        """A copy with some parameters changed (validated again)."""
+        return dataclasses.replace(self, **changes)
+
+    def params(self) -> dict[str, Any]:
+        """The parameters as a dict ``{name: value}``."""
+        return {name: getattr(self, name) for name in self.parameters}
+
+    def as_dict(self) -> dict[str, Any]:
+        """Every field of the design as plain Python values (floats, strings, booleans): enough
+        to build it again with ``type(design)(**design.as_dict())``."""
+        out = {}
+        for f in dataclasses.fields(self):
+            v = getattr(self, f.name)
+            if isinstance(v, (bool, str)) or v is None:
+                out[f.name] = v
+            elif isinstance(v, (int, np.integer)):
+                out[f.name] = int(v)
+            elif isinstance(v, (float, np.floating)) or (isinstance(v, np.ndarray) and v.size == 1):
+                out[f.name] = float(v)
+            else:
+                out[f.name] = v
+        return out
+
+    @property
+    def is_symbolic(self) -> bool:
+        return ops.is_symbolic(*self.params().values())
+
+    @classmethod
+    def parameter_unit(cls, name: str) -> str:
+        """SI unit of the parameter ``name`` (for reports and tables)."""
+        return cls.parameter_units.get(name, "m")
+
+    @classmethod
+    def unit_of(cls, name: str) -> str:
+        """SI unit of the parameter ``name`` (for reports and tables)."""
+        return cls.parameter_unit(name)
+
+    def describe(self) -> str:
+        """The design in one line, in display units: ``"SliderCrank: crank 70 mm, rod 240 mm,
+        offset 10 mm"``."""
+        from .. import display
+
+        name = type(self).__name__
+        if self.is_symbolic:
+            return f"{name} (symbolic)"
+        if any(np.size(v) > 1 for v in self.params().values()):
+            return f"{name} (a batch of designs)"
+        parts = [f"{k} {display.fmt(v, self.unit_of(k), 4)}" for k, v in self.params().items()]
+        return f"{name}: " + ", ".join(parts)

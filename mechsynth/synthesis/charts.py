@@ -153,9 +153,11 @@ class Chart:
     # -------------------------------------------------------------- tables
     def _unit_of(self, name: str) -> str:
         """SI unit of a grid axis or parameter (ratios and unknown names: none)."""
-        fields = getattr(self.mechanism, "__dataclass_fields__", {})
-        if name in fields and hasattr(self.mechanism, "parameter_unit"):
-            return self.mechanism.parameter_unit(name)
+        fields = getattr(self.mechanism, "__dataclass_fields__", None) or getattr(
+            self.mechanism, "parameters", {}
+        )
+        if name in fields and hasattr(self.mechanism, "unit_of"):
+            return self.mechanism.unit_of(name)
         return ""
 
     def _table(self):

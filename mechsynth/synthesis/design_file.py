@@ -76,24 +76,36 @@ def load_design(source) -> DesignSpec:
             f"{where}this is a problem file; `mechsynth optimize FILE --animate --out DIR` "
             "animates its optimum"
         )
-    unknown = set(data) - _TOP_KEYS
+    known = design_mechanisms()
+    name = data.get("mechanism")
+    kind = known.get(name) if isinstance(name, str) else None
+    # a mechanism read from the file's own tables (a linkage) declares them
+    unknown = set(data) - _TOP_KEYS - set(getattr(kind, "file_keys", ()))
     if unknown:
         raise ValueError(
             f"{where}unknown keys {sorted(unknown)}; a design file has {sorted(_TOP_KEYS)} "
             "(top-level keys before the [design] table)"
         )
-    known = design_mechanisms()
-    name = data.get("mechanism")
     if name not in known:
         raise ValueError(
             f"{where}mechanism must be one of {', '.join(sorted(known))}, got {name!r}"
         )
     cls = known[name]
-    fields = {f.name: f for f in dataclasses.fields(cls)}
-    values = {}
     table = data.get("design") or {}
     if not isinstance(table, dict):
         raise ValueError(f"{where}[design] must be a table of parameters")
+    if hasattr(cls, "from_problem_data"):  # a linkage: its file, then [design] overrides
+        linkage = cls.from_problem_data(data, path)
+        for key in table:
+            if key not in linkage.parameters:
+                raise ValueError(
+                    f"{where}{linkage.name} has no parameter {key!r}; its parameters: "
+                    f"{', '.join(linkage.parameters)}"
+                )
+        values = {k: parse_quantity(v, f"design {k!r}") for k, v in table.items()}
+        return _spec(linkage(**values) if values else linkage, data, where, path)
+    fields = {f.name: f for f in dataclasses.fields(cls)}
+    values = {}
     for key, value in table.items():
         if key not in fields:
             raise ValueError(
@@ -113,7 +125,11 @@ def load_design(source) -> DesignSpec:
     ]
     if missing:
         raise ValueError(f"{where}[design] must give {', '.join(missing)}")
-    design = cls(**values)
+    return _spec(cls(**values), data, where, path)
+
+
+def _spec(design, data, where, path) -> DesignSpec:
+    """The design with the file's speed and traced points."""
     speed = data.get("speed")
     speed = None if speed is None else parse_quantity(speed, "speed")
     trace = data.get("trace")

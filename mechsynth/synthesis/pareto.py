@@ -147,7 +147,7 @@ class ParetoFront:
         ]
         mech = self.mechanism
         for k in self.variables:
-            unit = mech.parameter_unit(k) if hasattr(mech, "parameter_unit") else ""
+            unit = mech.unit_of(k) if hasattr(mech, "unit_of") else ""
             vals = np.array(
                 [r.variables.get(k, np.nan) if r.variables else np.nan for r in self.results]
             )

@@ -259,10 +259,10 @@ class Result:
 
         c = self.certification
         du = display.current()
-        mech = type(self.design) if self.design is not None else None
+        design = self.design
 
         def unit_of(name):
-            return mech.parameter_unit(name) if mech is not None else "m"
+            return design.unit_of(name) if hasattr(design, "unit_of") else "m"
 
         def num(value, unit, digits=10):
             if not np.isfinite(value):
@@ -391,9 +391,16 @@ class Result:
                 else "nan"
             )
             head = f"{self.sense} {self.objective} = {value}; status {self.status}"
+            described = self.design.describe()
+            if "\n" in described:  # a linkage lists every dimension: name the varied ones
+                varied = ", ".join(
+                    f"{k} {display.fmt(v, self.design.unit_of(k), 4)}"
+                    for k, v in self.variables.items()
+                )
+                described = f"{_name(self.design)}: {varied}"
+            fig.align_ylabels(axes)
             axes[0].set_title(
-                make_title(self.design.describe(), "", self.speed)
-                + f"\n{head} (dashed: certified peak angles)",
+                make_title(described, "", self.speed) + f"\n{head} (dashed: certified peak angles)",
                 fontsize=9,
             )
         return fig
