@@ -13,6 +13,7 @@ from .display import display_units
 from .errors import MechanismError, SolverError
 from .kinematics import FourBar, Linkage, Motion, Param, SliderCrank
 from .machines.dwell import DwellSliderCrank
+from .machines.impact import crank_rocker, five_link, six_link
 from .machines.nail_header import NailHeader
 from .machines.pumping_unit import BeamPumpingUnit, SpatialPumpingUnit
 from .synthesis import Problem, Result
@@ -38,6 +39,9 @@ __all__ = [
     "SpatialPumpingUnit",
     "NailHeader",
     "DwellSliderCrank",
+    "crank_rocker",
+    "six_link",
+    "five_link",
     "Motion",
     "cycle",
     "deg",
