@@ -46,7 +46,10 @@ def _add_study(sub) -> None:
     pl.add_argument("--json", action="store_true", help="print the list as JSON")
     pl.add_argument("--out", metavar="DIR", help="(unused; accepted for uniformity)")
     pl.set_defaults(func=_study_list)
-    pr = ssub.add_parser("run", help="run a study and compare with the published values")
+    pr = ssub.add_parser(
+        "run", help="run a study and compare with the published values", add_help=False
+    )
+    pr.add_argument("-h", "--help", action=_HelpWithOptions, epilog=_all_study_options)
     pr.add_argument("name", help="study name (see 'mechsynth study list')")
     pr.add_argument(
         "--set",
@@ -54,7 +57,7 @@ def _add_study(sub) -> None:
         default=[],
         metavar="KEY=VALUE",
         help="study option (repeatable), e.g. --set tolerance=0.001 --set stroke=0.35 for "
-        "dwell; --set help lists the study's options and defaults",
+        "dwell; --set help lists the study's options, their defaults, units and ranges",
     )
     _add_output_options(pr)
     pr.set_defaults(func=_study_run)
@@ -81,30 +84,18 @@ def _study_run(args) -> int:
 
 
 def _study_options(name, items):
-    """``--set KEY=VALUE`` strings as keyword arguments of the study's ``run``, each read as the
-    type of its default (a comma list for a tuple default). None after printing the options
-    for ``--set help``."""
-    import inspect
-
+    """``--set KEY=VALUE`` strings read and checked against the study's declared options
+    (:mod:`mechsynth.options`). None after printing the table of options for ``--set help``."""
     from .studies import get_study
 
-    params = {
-        k: p.default
-        for k, p in inspect.signature(get_study(name).run).parameters.items()
-        if k != "out" and p.default is not inspect.Parameter.empty
-    }
-    known = ", ".join(f"{k}={v!r}" for k, v in params.items()) or "none"
+    return _declared_options(f"study {name!r}", get_study(name).run.options, items)
+
+
+def _declared_options(owner, options, items):
     if any(item.strip() == "help" for item in items):
-        print(f"options of study {name!r} (defaults): {known}")
+        print(options.help(f"options of {owner}"))
         return None
-    options = {}
-    for key, text in _set_options(items).items():
-        if key not in params:
-            raise ValueError(
-                f"study {name!r} has no option {key!r}; its options (defaults): {known}"
-            )
-        options[key] = _read_option(key, text, params[key])
-    return options
+    return options.resolve(_set_options(items), owner)
 
 
 def _set_options(items) -> dict[str, str]:
@@ -112,25 +103,39 @@ def _set_options(items) -> dict[str, str]:
     options = {}
     for item in items:
         key, sep, value = item.partition("=")
-        if not sep:
-            raise ValueError(f"--set expects KEY=VALUE, got {item!r}")
+        if not sep or not key.strip():
+            raise ValueError(f"--set expects KEY=VALUE (or --set help), got {item!r}")
         options[key.strip()] = value.strip()
     return options
 
 
-def _read_option(key, text, default):
-    kind = type(default[0]) if isinstance(default, tuple) and default else type(default)
-    if kind not in (int, float, str):
-        raise ValueError(f"option {key} cannot be set from the command line")
-    parts = [t.strip() for t in text.split(",")] if isinstance(default, tuple) else [text]
-    try:
-        values = tuple(kind(t) for t in parts)
-    except ValueError:
-        raise ValueError(
-            f"option {key}: cannot read {text!r} as {kind.__name__}"
-            + (" values separated by commas" if isinstance(default, tuple) else "")
-        ) from None
-    return values if len(values) > 1 else values[0]
+class _HelpWithOptions(argparse.Action):
+    """``-h/--help`` that appends the options of every study or chart to the help text (built
+    on demand: listing them imports the studies)."""
+
+    def __init__(self, option_strings, dest, epilog=None, **kwargs):
+        self._epilog = epilog
+        super().__init__(option_strings, dest, nargs=0, help="show this help message and exit")
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        parser.epilog = self._epilog()
+        parser.formatter_class = argparse.RawDescriptionHelpFormatter
+        parser.print_help()
+        parser.exit()
+
+
+def _all_study_options() -> str:
+    from .studies import STUDIES, get_study
+
+    return "study options:\n" + "\n\n".join(
+        get_study(name).run.options.help(name) for name in STUDIES
+    )
+
+
+def _all_chart_options() -> str:
+    return "chart options:\n" + "\n\n".join(
+        _chart_function(name).options.help(name) for name in CHARTS
+    )
 
 
 # ------------------------------------------------------------------------------- chart
@@ -165,28 +170,38 @@ CHARTS: dict[str, tuple[str, str, str]] = {
 
 
 def _add_chart(sub) -> None:
-    p = sub.add_parser("chart", help="sweep a design grid and draw a design chart (nomogram)")
+    p = sub.add_parser(
+        "chart", help="sweep a design grid and draw a design chart (nomogram)", add_help=False
+    )
+    p.add_argument("-h", "--help", action=_HelpWithOptions, epilog=_all_chart_options)
     p.add_argument("name", help="chart name: " + ", ".join(sorted(CHARTS)) if CHARTS else "chart")
     p.add_argument(
         "--set",
         action="append",
         default=[],
         metavar="KEY=VALUE",
-        help="chart option (repeatable), e.g. --set gamma_deg=0,15,30",
+        help="chart option (repeatable), e.g. --set n=80 --set rod_crank=2:6 for slider-crank; "
+        "--set help lists the chart's options, their defaults, units and ranges",
     )
     _add_output_options(p)
     p.set_defaults(func=_chart_run)
 
 
-def _chart_run(args) -> int:
+def _chart_function(name):
     import importlib
 
-    if args.name not in CHARTS:
-        raise ValueError(f"unknown chart {args.name!r}; known charts: {', '.join(sorted(CHARTS))}")
-    options = _set_options(args.set)
-    module, function, _ = CHARTS[args.name]
-    result = getattr(importlib.import_module(module), function)(args.out, options)
-    return _print_result(result, args)
+    if name not in CHARTS:
+        raise ValueError(f"unknown chart {name!r}; known charts: {', '.join(sorted(CHARTS))}")
+    module, function, _ = CHARTS[name]
+    return getattr(importlib.import_module(module), function)
+
+
+def _chart_run(args) -> int:
+    chart = _chart_function(args.name)
+    options = _declared_options(f"chart {args.name!r}", chart.options, args.set)
+    if options is None:
+        return 0
+    return _print_result(chart(args.out, options), args)
 
 
 def _print_result(result, args) -> int:

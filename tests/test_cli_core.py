@@ -40,7 +40,7 @@ def test_unknown_study_is_a_clear_error(capsys):
 def test_study_options_from_the_command_line(capsys):
     assert main(["study", "run", "dwell", "--set", "help"]) == 0
     out = capsys.readouterr().out
-    assert "tolerance=0.002" in out and "stroke=0.3" in out
+    assert "default 0.002" in out and "tolerance" in out and "minimum stroke S_max" in out
     rc = main(
         ["study", "run", "dwell", "--set", "tolerance=0.003", "--set", "stroke=0.35"]
         + ["--set", "n=6,7,7", "--set", "dense=5", "--set", "local=3", "--json"]
@@ -55,8 +55,9 @@ def test_study_options_from_the_command_line(capsys):
 @pytest.mark.parametrize(
     "item, message",
     [
-        ("tol=1", "has no option 'tol'; its options (defaults): tolerance=0.002"),
-        ("n=a,b", "option n: cannot read 'a,b' as int values separated by commas"),
+        ("tol=1", "study 'dwell': unknown option tol; options: tolerance, stroke, n"),
+        ("n=a,b", "option n must be integers separated by commas, >= 2, <= 200, got 'a,b'"),
+        ("min_scale=0", "option min_scale must be >= 0.0001, got 0.0"),
         ("stroke", "--set expects KEY=VALUE"),
         ("stroke=-1", "stroke"),
     ],

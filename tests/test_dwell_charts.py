@@ -33,7 +33,7 @@ def test_chart_cli_renders(tmp_path):
     assert (tmp_path / "dwell_chart.png").stat().st_size > 10_000
     rows = list(csv.DictReader((tmp_path / "dwell_chart.csv").open()))
     assert len(rows) == 2 * 4 * 4
-    with pytest.raises(ValueError, match="unknown chart option"):
+    with pytest.raises(ValueError, match="unknown option bogus; options: "):
         chart_dwell(None, {"bogus": "1"})
 
 

@@ -173,7 +173,7 @@ def test_dwell_study_rejects_bad_input():
         run(None, tolerance=-1.0)
     with pytest.raises(ValueError, match="stroke"):
         run(None, stroke=0.0)
-    with pytest.raises(ValueError, match=r"n \(grid points per axis\) must be >= 2"):
+    with pytest.raises(ValueError, match=r"option n must be integers separated by commas, >= 2"):
         run(None, n=(5, 1, 5))
     with pytest.raises(ValueError, match="starts"):
         run(None, starts=0)

@@ -72,9 +72,10 @@ def test_study_run_reduced(tmp_path, capsys):
     [
         ("card=/no/such/card.csv", "not found"),
         ("limit=1.5", "limit must be a fraction"),
-        ("n_angles=2", "at least 3"),
+        ("n_angles=2", "option n_angles must be >= 3, got 2"),
         ("phase_mismatch_deg=30", "not a small deviation"),
-        ("spm=abc", "cannot read"),
+        ("spm=abc", "option spm (strokes/min) must be a finite number, got 'abc'"),
+        ("sweep_points=1e9", "option sweep_points must be an integer"),
         ("stiffness_factors=1,-2", "must be positive"),
     ],
 )

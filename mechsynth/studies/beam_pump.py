@@ -37,6 +37,7 @@ from ..machines.pumping_unit import (
     torque_factor_table,
 )
 from ..objectives import max_pressure_angle, peak_acceleration, stroke
+from ..options import Option, takes_options
 from ..progress import Stages
 from ..units import cycle, deg, spm
 from . import StudyResult
@@ -222,6 +223,12 @@ STAGES = (
 )
 
 
+@takes_options(
+    Option("n_angles", 721, "crank angles of the curves", minimum=9, maximum=100_000),
+    Option("pareto_points", 7, "points on the Pareto front", minimum=2, maximum=100),
+    Option("starts", 3, "multi-starts of the synthesis", minimum=1, maximum=1000),
+    owner="study 'beam-pump'",
+)
 def run(out=None, n_angles=721, pareto_points=7, starts=3):
     """Run the study (see the module notes); ``n_angles`` crank angles of the curves,
     ``pareto_points`` points on the front, ``starts`` multi-starts of the synthesis."""

@@ -32,6 +32,7 @@ import numpy as np
 
 from ..machines.dwell import DwellSliderCrank
 from ..machines.dwell.metrics import dwell_metrics, dwell_window
+from ..options import Option, takes_options
 from ..progress import Stages
 from . import StudyResult
 
@@ -454,6 +455,22 @@ def _line(d):
     )
 
 
+@takes_options(
+    Option("tolerance", 0.002, "half-width E of the dwell band, relative to the rod",
+           minimum=0.0, exclusive=True, maximum=1.0),
+    Option("stroke", 0.3, "minimum stroke S_max, relative to the rod", minimum=0.0,
+           exclusive=True, maximum=10.0),
+    Option("n", (16, 23, 25), "global grid points on r, k, gamma (one value: all three)",
+           minimum=2, maximum=200),
+    Option("starts", 6, "distinct grid designs refined at 720 angles", minimum=1, maximum=1000),
+    Option("dense", (13, 17, 25), "certificate's box grid on r, k, gamma (one value: all three)",
+           minimum=2, maximum=200),
+    Option("local", 9, "points per axis of the certificate's local grid", minimum=2, maximum=101),
+    Option("min_scale", 1 / 64, "refinement stops below this fraction of a grid half-cell",
+           minimum=1e-4, maximum=1.0),
+    Option("workers", 2, "threads for the batch evaluations", minimum=1, maximum=256),
+    owner="study 'dwell'",
+)
 def run(
     out=None,
     tolerance=0.002,

@@ -25,6 +25,7 @@ from ..kinematics.extreme_velocity import (
     velocity_analog_derivative,
 )
 from ..kinematics.slider_crank import SliderCrank
+from ..options import takes_options
 from ..progress import Stages
 from ..units import dms, format_dms
 from . import StudyResult
@@ -195,6 +196,7 @@ def _figure(path):
         save_figure(fig, path, dpi=130)
 
 
+@takes_options(owner="study 'extreme-velocity'")
 def run(out=None) -> StudyResult:
     """Run the study; write ``table1.csv``, ``offset_check.csv``, ``velocity_analogs.png`` and an
     animation of the b/a = 2 design into ``out`` when given."""

@@ -20,6 +20,7 @@ from ..dynamics.equation_of_motion import energy_method_flywheel, size_flywheel
 from ..machines.nail_header import NailHeader
 from ..machines.nail_header.drive import MOTOR_ASSUMPTION, nail_header_speed_fluctuation
 from ..objectives.forces import reaction_affine_map
+from ..options import Option, takes_options
 from ..progress import Stages
 from ..report import StudyResult
 from ..synthesis.convex import minimax_affine
@@ -99,6 +100,12 @@ STAGES = (
 )
 
 
+@takes_options(
+    Option("angles", 1440, "crank positions per turn", minimum=36, maximum=100_000),
+    Option("scan_step", 0.5, "step of the slider-mass scan", unit="kg", minimum=0.0,
+           exclusive=True, maximum=50.0),
+    owner="study 'nail-header'",
+)
 def run(out=None, angles=1440, scan_step=0.5):
     """Run the study; ``angles`` crank positions per turn, ``scan_step`` kg for the scan."""
     with Stages("nail-header", STAGES if out is not None else STAGES[:-1]) as stages:

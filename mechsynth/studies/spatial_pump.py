@@ -56,6 +56,7 @@ from ..machines.pumping_unit.spatial_design import (
 )
 from ..machines.pumping_unit.spatial_forces import SpatialMasses, planar_torque, power_balance
 from ..machines.pumping_unit.spatial_unit import DEVIATIONS, SpatialPumpingUnit
+from ..options import Option, takes_options
 from ..units import spm as spm_to_rad
 from . import StudyResult
 
@@ -194,6 +195,36 @@ def _paper_comparison(theta, rev, rat, dead):
     }
 
 
+@takes_options(
+    Option("n_angles", 360, "crank angles of the cycle", minimum=3, maximum=100_000),
+    Option("spm", 6.0, "pumping speed", unit="strokes/min", minimum=0.0, exclusive=True,
+           maximum=60.0),
+    Option("card", "", 'dynamometer card CSV (position m, load N); "": the bundled card',
+           kind="path"),
+    Option("crank_spacing", 1.2, "spacing of the two crank arms along the shaft", unit="m",
+           minimum=0.0, exclusive=True),
+    Option("equalizer_width", 1.2, "width of the equalizer between the pitmans", unit="m",
+           minimum=0.0, exclusive=True),
+    Option("phase_mismatch_deg", 0.25, "phase mismatch of the crank arms", unit="deg"),
+    Option("crank_difference_mm", 1.0, "difference of the crank radii", unit="mm"),
+    Option("pitman_difference_mm", 2.0, "difference of the pitman lengths", unit="mm"),
+    Option("shaft_tilt_mrad", 0.5, "tilt of the crankshaft", unit="mrad"),
+    Option("shaft_skew_mrad", 1.0, "skew of the crankshaft", unit="mrad"),
+    Option("beam_tilt_mrad", 0.5, "tilt of the beam's axis", unit="mrad"),
+    Option("beam_skew_mrad", 0.5, "skew of the beam's axis", unit="mrad"),
+    Option("equalizer_offset_mm", 2.0, "offset of the equalizer's bearing", unit="mm"),
+    Option("limit", 0.05, "tolerated pitman load split (fraction)"),
+    Option("sweep_angles", 90, "crank angles of the deviation sweeps", minimum=3,
+           maximum=100_000),
+    Option("sweep_points", 6, "points per deviation sweep", minimum=3, maximum=1000),
+    Option("chart_points", 9, "points per axis of the tolerance chart", minimum=3, maximum=200),
+    Option("design_points", 6, "points per axis of the design chart", minimum=3, maximum=200),
+    Option("stiffness_factors", (0.5, 1.0, 2.0, 4.0),
+           "multiples of the pitmans' bending stiffness in the design chart"),
+    Option("sizing_angles", 120, "crank angles of the counterbalance sizing", minimum=3,
+           maximum=100_000),
+    owner="study 'spatial-pump'",
+)
 def run(
     out=None,
     n_angles=360,

@@ -39,6 +39,7 @@ import numpy as np
 
 from ..errors import MechanismError
 from ..objectives.base import Measure
+from ..options import Option, chart_options
 from ..units import cycle
 
 __all__ = ["Chart", "sweep", "slider_crank_chart", "chart_slider_crank"]
@@ -746,40 +747,33 @@ def slider_crank_chart(
     )
 
 
-def pop_span(opts: dict, key: str, default: str) -> tuple[float, float]:
-    """Pop a chart option ``LOW:HIGH`` (a string, ``default`` when absent) as two floats."""
-    try:
-        lo, hi = (float(v) for v in opts.pop(key, default).split(":"))
-    except ValueError as exc:
-        raise ValueError(f"{key} must be LOW:HIGH, e.g. {default}") from exc
-    return lo, hi
-
-
+@chart_options(
+    Option("stroke", 0.1, "required slider stroke H", unit="m", minimum=0.0, exclusive=True),
+    Option("rpm", 600.0, "crank speed", unit="rpm", minimum=0.0, exclusive=True),
+    Option("n", 60, "grid points per axis", minimum=3, maximum=2000),
+    Option("n_angles", 360, "crank angles per turn", minimum=8, maximum=100_000),
+    Option("rod_crank", (1.5, 8.0), "range of rod/crank", kind="span", minimum=1.0,
+           exclusive=True),
+    Option("offset_crank", (0.0, 2.0), "range of offset/crank", kind="span"),
+    Option("pressure_limit_deg", 30.0, "limit on the max pressure angle", unit="deg",
+           minimum=0.0, exclusive=True, maximum=90.0),
+    Option("rod_max", None, "limit on the rod length (unset: none)", unit="m", kind="float",
+           minimum=0.0, exclusive=True),
+    owner="chart 'slider-crank'",
+)
 def chart_slider_crank(out, options):
-    """``mechsynth chart slider-crank``: options stroke=0.1 (m), rpm=600, n=60 (grid points
-    per axis), n_angles=360, rod_crank=1.5:8, offset_crank=0:2, pressure_limit_deg=30,
-    rod_max (m, optional: a limit on the rod length)."""
+    """``mechsynth chart slider-crank``: peak slider acceleration, max pressure angle and time
+    ratio of offset slider-cranks of a given stroke over (rod/crank, offset/crank); its options
+    are ``chart_slider_crank.options``."""
     from .. import display
     from ..report import StudyResult
     from ..units import deg, rpm
 
-    opts = dict(options)
-
-    def span(key, default):
-        return pop_span(opts, key, default)
-
-    H = float(opts.pop("stroke", "0.1"))
-    speed_rpm = float(opts.pop("rpm", "600"))
-    n = int(opts.pop("n", "60"))
-    n_angles = int(opts.pop("n_angles", "360"))
-    limit_deg = float(opts.pop("pressure_limit_deg", "30"))
-    rod_max = opts.pop("rod_max", None)
-    l_lo, l_hi = span("rod_crank", "1.5:8")
-    e_lo, e_hi = span("offset_crank", "0:2")
-    if opts:
-        raise ValueError(f"unknown chart option(s): {', '.join(sorted(opts))}")
-    if n < 3:
-        raise ValueError(f"n (grid points per axis) must be >= 3, got {n}")
+    H, speed_rpm, n = options["stroke"], options["rpm"], options["n"]
+    n_angles, limit_deg = options["n_angles"], options["pressure_limit_deg"]
+    rod_max = options["rod_max"]
+    l_lo, l_hi = options["rod_crank"]
+    e_lo, e_hi = options["offset_crank"]
     chart = slider_crank_chart(
         H,
         np.linspace(l_lo, l_hi, n),

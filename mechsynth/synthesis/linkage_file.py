@@ -59,6 +59,7 @@ import numpy as np
 
 from ..kinematics.curves import Circle, Involute
 from ..kinematics.linkage import Linkage, Param
+from ..options import Option, chart_options
 from .problem_file import parse_quantity, register_mechanism
 
 __all__ = ["linkage_from_data", "load_linkage", "LINKAGE_TABLES", "chart_linkage"]
@@ -393,6 +394,19 @@ def _axis(value, where):
     return value[0], lo, hi
 
 
+@chart_options(
+    Option("file", None, "the chart file: a linkage and its [chart] table", kind="path",
+           required=True),
+    Option("n", None, "grid points per axis (overrides the file)", kind="int", minimum=3,
+           maximum=2000),
+    Option("angles", None, "crank angles per turn (overrides the file)", kind="int", minimum=8,
+           maximum=100_000),
+    Option("rpm", None, "crank speed (overrides the file)", unit="rpm", kind="float",
+           minimum=0.0, exclusive=True),
+    Option("x", None, "first axis NAME:LOW:HIGH (overrides the file)", kind="str"),
+    Option("y", None, "second axis NAME:LOW:HIGH (overrides the file)", kind="str"),
+    owner="chart 'linkage'",
+)
 def chart_linkage(out, options):
     """``mechsynth chart linkage --set file=chart.toml``: a design chart of a linkage over two of
     its dimensions. The file holds the linkage (inline tables or ``linkage = "file"``) and a
@@ -414,11 +428,8 @@ def chart_linkage(out, options):
     from .charts import sweep
     from .problem_file import parse_constraint, parse_measure
 
-    opts = dict(options)
-    if "file" not in opts:
-        raise ValueError("chart linkage needs --set file=PATH (a TOML file with a [chart] table)")
-    path = Path(opts.pop("file"))
-    if not path.exists():
+    path = Path(options["file"])
+    if not path.is_file():
         raise FileNotFoundError(f"chart file {path} not found")
     data = _read(path)
     unknown = set(data) - set(LINKAGE_TABLES) - {"chart"}
@@ -437,19 +448,11 @@ def chart_linkage(out, options):
             + ", ".join(sorted(_CHART_KEYS))
         )
     lk = _linkage_of(data, path)
-    for key in ("n", "angles"):
-        if key in opts:
-            try:
-                chart[key] = int(opts.pop(key))
-            except ValueError:
-                raise ValueError(f"option {key} must be an integer") from None
-    if "rpm" in opts:
-        chart["speed"] = f"{float(opts.pop('rpm'))} rpm"
-    for key in ("x", "y"):
-        if key in opts:
-            chart[key] = opts.pop(key)
-    if opts:
-        raise ValueError(f"unknown chart option(s): {', '.join(sorted(opts))}")
+    for key in ("n", "angles", "x", "y"):
+        if options[key] is not None:
+            chart[key] = options[key]
+    if options["rpm"] is not None:
+        chart["speed"] = f"{options['rpm']} rpm"
     for key in ("x", "y", "measures"):
         if key not in chart:
             raise LinkageFileError(f"{path}: [chart]: missing key {key}")

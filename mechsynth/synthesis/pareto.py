@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 
 from ..objectives.base import Measure
+from ..options import Option, chart_options
 
 __all__ = ["ParetoFront", "pareto_front", "true_value", "chart_pareto_slider_crank"]
 
@@ -370,35 +371,32 @@ def pareto_front(
     )
 
 
+@chart_options(
+    Option("stroke", 0.1, "required slider stroke H", unit="m", minimum=0.0, exclusive=True),
+    Option("rpm", 600.0, "crank speed", unit="rpm", minimum=0.0, exclusive=True),
+    Option("n", 7, "points on the front, anchors included", minimum=2, maximum=200),
+    Option("starts", 4, "multi-starts per interior point", minimum=1, maximum=1000),
+    Option("anchor_starts", 8, "multi-starts of each anchor", minimum=1, maximum=1000),
+    Option("crank", (0.01, 0.2), "bounds of the crank", unit="m", kind="span", minimum=0.0,
+           exclusive=True),
+    Option("rod", (0.05, 0.2), "bounds of the rod", unit="m", kind="span", minimum=0.0,
+           exclusive=True),
+    Option("offset", (-0.1, 0.1), "bounds of the offset", unit="m", kind="span"),
+    owner="chart 'slider-crank-pareto'",
+)
 def chart_pareto_slider_crank(out, options):
     """``mechsynth chart slider-crank-pareto``: peak slider acceleration against max pressure
-    angle at a fixed stroke. Options: stroke=0.1 (m), rpm=600, n=7 (points, anchors included),
-    starts=4, anchor_starts=8, crank=0.01:0.2, rod=0.05:0.2, offset=-0.1:0.1 (m)."""
+    angle at a fixed stroke; its options are ``chart_pareto_slider_crank.options``."""
     from .. import display
     from ..kinematics.slider_crank import SliderCrank
     from ..objectives.kinematic import max_pressure_angle, peak_acceleration, stroke
     from ..report import StudyResult
     from ..units import rpm
-    from .charts import pop_span
     from .problem import Problem
 
-    opts = dict(options)
-
-    def span(key, default):
-        return pop_span(opts, key, default)
-
-    H = float(opts.pop("stroke", "0.1"))
-    speed_rpm = float(opts.pop("rpm", "600"))
-    n = int(opts.pop("n", "7"))
-    starts = int(opts.pop("starts", "4"))
-    anchor_starts = int(opts.pop("anchor_starts", "8"))
-    variables = {
-        "crank": span("crank", "0.01:0.2"),
-        "rod": span("rod", "0.05:0.2"),
-        "offset": span("offset", "-0.1:0.1"),
-    }
-    if opts:
-        raise ValueError(f"unknown chart option(s): {', '.join(sorted(opts))}")
+    H, speed_rpm, n = options["stroke"], options["rpm"], options["n"]
+    starts, anchor_starts = options["starts"], options["anchor_starts"]
+    variables = {k: options[k] for k in ("crank", "rod", "offset")}
     prob = Problem(SliderCrank, variables, speed=rpm(speed_rpm))
     prob.subject_to(stroke("slider") == H)
     fr = pareto_front(

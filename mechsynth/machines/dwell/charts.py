@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...options import Option, chart_options
 from .linkage import DwellSliderCrank
 from .metrics import best_window_width, dwell_metrics
 
@@ -325,31 +326,33 @@ def plot_dwell_chart(chart: DwellChart, path=None):
     return fig
 
 
+@chart_options(
+    Option("gamma_deg", (0.0, 20.0, 40.0), "bends gamma of the coupler, one panel column each",
+           unit="deg", minimum=-180.0, maximum=180.0),
+    Option("tolerance", 0.002, "half-width E of the dwell band, relative to the rod",
+           minimum=0.0, exclusive=True),
+    Option("stroke", 0.3, "minimum relative stroke S_max of a design that counts", minimum=0.0),
+    Option("n", 40, "grid points per axis", minimum=3, maximum=1000),
+    Option("window_deg", 90.0, "dwell window searched", unit="deg", minimum=0.0,
+           exclusive=True, maximum=360.0),
+    Option("n_angles", 360, "crank angles per turn", minimum=8, maximum=100_000),
+    Option("r", (0.05, 0.5), "range of the crank r (relative to the rod)", kind="span",
+           minimum=0.0, exclusive=True),
+    Option("k", (0.3, 2.5), "range of the coupler point distance k (relative to the rod)",
+           kind="span", minimum=0.0, exclusive=True),
+    owner="chart 'dwell'",
+)
 def chart_dwell(out, options):
-    """``mechsynth chart dwell``: options gamma_deg=0,20,40 tolerance=0.002 stroke=0.3 (the
-    minimum relative stroke S_max of a design that counts) n=40 window_deg=90 n_angles=360
-    r=0.05:0.5 k=0.3:2.5."""
+    """``mechsynth chart dwell``: dwell duration, band width and stroke S_max of the dwell
+    linkage over (r, k) for a few bends; its options are ``chart_dwell.options``."""
     from ... import display
     from ...report import StudyResult
-    from ...synthesis.charts import pop_span
 
-    opts = dict(options)
-
-    def span(key, default):
-        return pop_span(opts, key, default)
-
-    gammas = [float(v) for v in opts.pop("gamma_deg", "0,20,40").split(",")]
-    tol = float(opts.pop("tolerance", "0.002"))
-    stroke = float(opts.pop("stroke", "0.3"))
-    n = int(opts.pop("n", "40"))
-    window = float(opts.pop("window_deg", "90"))
-    n_angles = int(opts.pop("n_angles", "360"))
-    r_lo, r_hi = span("r", "0.05:0.5")
-    k_lo, k_hi = span("k", "0.3:2.5")
-    if opts:
-        raise ValueError(f"unknown chart option(s): {', '.join(sorted(opts))}")
-    if n < 3:
-        raise ValueError(f"n (grid points per axis) must be >= 3, got {n}")
+    gammas = list(options["gamma_deg"])
+    tol, stroke, n = options["tolerance"], options["stroke"], options["n"]
+    window, n_angles = options["window_deg"], options["n_angles"]
+    r_lo, r_hi = options["r"]
+    k_lo, k_hi = options["k"]
     chart = dwell_chart_data(
         np.linspace(r_lo, r_hi, n),
         np.linspace(k_lo, k_hi, n),
