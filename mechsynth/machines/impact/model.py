@@ -225,24 +225,33 @@ def five_link(
 
 
 def special_angles(linkage: Linkage, n=720):
-    """Crank angles (rad, in [0, 2 pi)) of the special position: the arm D-K along the base
-    line pointing away from O (two per turn, the rocker passing forth and back), each refined by
-    Newton steps on the arm's angle. Raises MechanismError if the rocker never gets there."""
+    """Crank angles (rad, in [0, 2 pi)) of the special position, two per turn (the rocker
+    passing forth and back), each refined by Newton steps: where the arm D-K lies along the base
+    line pointing away from O; for a linkage without a point K (the five-link), where the rocker
+    D-B is at the middle of its swing. Raises MechanismError if the rocker never gets there."""
     phi = np.linspace(0.0, 2 * np.pi, int(n) + 1)
+    if "K" in linkage.points:
 
-    def arm_angle(ph):
-        m = linkage.motion(ph)
-        k, d = m.points["K"], m.points["D"]
-        ang = np.arctan2(k.y - d.y, k.x - d.x)
-        dang = ((k.x - d.x) * k.vy - (k.y - d.y) * k.vx) / ((k.x - d.x) ** 2 + (k.y - d.y) ** 2)
-        return np.asarray(ang), np.asarray(dang)
+        def angle(ph):
+            m = linkage.motion(ph)
+            k, d = m.points["K"], m.points["D"]
+            rx, ry = k.x - d.x, k.y - d.y
+            return np.arctan2(ry, rx), (rx * k.vy - ry * k.vx) / (rx * rx + ry * ry)
 
-    a, _ = arm_angle(phi)
+    else:
+        th = np.unwrap(np.asarray(linkage.motion(phi).links["DB"].angle))
+        mid = 0.5 * (th.min() + th.max())
+
+        def angle(ph):
+            lk = linkage.motion(ph).links["DB"]
+            return np.angle(np.exp(1j * (np.asarray(lk.angle) - mid))), lk.omega
+
+    a = np.asarray(angle(phi)[0])
     roots = []
     for i in np.flatnonzero((np.sign(a[:-1]) != np.sign(a[1:])) & (np.abs(a[:-1]) < 1.0)):
         x = phi[i] - a[i] * (phi[i + 1] - phi[i]) / (a[i + 1] - a[i])
         for _ in range(20):
-            f, df = arm_angle(x)
+            f, df = angle(x)
             step = float(f / df)
             x -= step
             if abs(step) < 1e-15:

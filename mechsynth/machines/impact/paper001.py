@@ -32,6 +32,8 @@ __all__ = [
     "eq9_phi3r",
     "eq9_v_py",
     "eq10_a_py",
+    "eq11_gravity_moment",
+    "eq12_reduced_inertia",
     "six_link_quantities",
     "check_six_link",
     "five_link_quantities",
@@ -105,6 +107,19 @@ def eq10_a_py(a_p_n, a_p_t, phi3r):
     the printed ``phi3K`` is read as ``phi3R`` (no other angle of that name is defined)."""
     a_p = np.hypot(a_p_n, a_p_t)
     return a_p * np.cos(np.arctan(a_p_n / a_p_t) + phi3r)
+
+
+def eq11_gravity_moment(g4, v_py_over_omega, psi, gamma):
+    """(11) the striker's reduced gravity moment ``M_G4 = G4 (-V_Py / omega1) cos(psi + gamma)``
+    (N m; G4 its weight in N, V_Py/omega1 its velocity analog along the guide, m/rad; psi the
+    machine's tilt, gamma the mechanism's in the housing)."""
+    return g4 * (-v_py_over_omega) * np.cos(psi + gamma)
+
+
+def eq12_reduced_inertia(j_1a, m2, v_s2, j_2s, u21, j_3d, u31, m4, v_py):
+    """(12) ``J_red = J_1A + m2 (V_S2/omega1)^2 + J_2S U21^2 + J_3D U31^2 + m4 (V_Py/omega1)^2``
+    with the velocities given as analogs (per unit crank speed)."""
+    return j_1a + m2 * v_s2**2 + j_2s * u21**2 + j_3d * u31**2 + m4 * v_py**2
 
 
 # ----------------------------------------------------------------------------- exact values
