@@ -189,7 +189,10 @@ def test_chart_linkage_cli(tmp_path, capsys):
         (["file={ex}/six_link.toml"], r"missing the \[chart\] table"),
         (["file={ex}/chart_six_link.toml", "x=XY:0:1"], "has no parameter 'XY'"),
         (["file={ex}/chart_six_link.toml", "n=many"], "option n must be an integer, got 'many'"),
-        (["file={ex}/chart_six_link.toml", "colour=red"], "unknown option colour; options: file, n"),
+        (
+            ["file={ex}/chart_six_link.toml", "colour=red"],
+            "unknown option colour; options: file, n",
+        ),
     ],
 )
 def test_chart_linkage_errors(options, message, capsys):

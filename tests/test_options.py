@@ -56,7 +56,10 @@ def test_help_lists_the_options_of_every_name(command, capsys):
         (["chart", "slider-crank", "--set", "rod_crank=5:2"], "LOW:HIGH with LOW < HIGH"),
         (["chart", "slider-crank", "--set", "rod_crank=0.5:2"], "option rod_crank must be"),
         (["chart", "slider-crank", "--set", "nn=3"], "unknown option nn; options: stroke, rpm"),
-        (["chart", "dwell", "--set", "gamma_deg=0,,20"], "option gamma_deg must be numbers separated by commas"),
+        (
+            ["chart", "dwell", "--set", "gamma_deg=0,,20"],
+            "option gamma_deg must be numbers separated by commas",
+        ),
         (["chart", "dwell", "--set", "n=100000"], "option n must be <= 1000, got 100000"),
         (["chart", "slider-crank", "--set", "=3"], "--set expects KEY=VALUE"),
         (["study", "run", "nail-header", "--set", "scan_step=0"], "scan_step (kg) must be > 0"),

@@ -63,7 +63,7 @@ def test_study_run_reduced(tmp_path, capsys):
         assert f"spatial_pump_{f}.png" in names
     for f in ("cycle", "tolerances", "sweep", "tolerance_chart", "design_chart"):
         assert f"spatial_pump_{f}.csv" in names
-    assert "spatial_pump.json" in names
+    assert "spatial_pump.json" in names and "spatial_pump.gif" in names
     assert len(data["errata"]) >= 12
 
 

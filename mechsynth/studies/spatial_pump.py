@@ -911,6 +911,9 @@ def _write(out, results):
                 for k, wd in enumerate(widths):
                     w.writerow([n, unit, fct, wd, d["tolerance"][i, k] * factor, d["check"][i, k]])
     files.append(out / "spatial_pump_design_chart.csv")
+    # the drive seen along the shaft is the planar unit: its animation at the study's speed
+    speed = spm_to_rad(float(data["options"]["spm"]))
+    files.append(planar.animate(frames=36, speed=speed, dpi=60).save(out / "spatial_pump.gif"))
     (out / "spatial_pump.json").write_text(dumps(data) + "\n")
     files.append(out / "spatial_pump.json")
     return files
