@@ -34,6 +34,8 @@ __all__ = [
     "eq10_a_py",
     "eq11_gravity_moment",
     "eq12_reduced_inertia",
+    "eq20_f43",
+    "eq21_f45",
     "six_link_quantities",
     "check_six_link",
     "five_link_quantities",
@@ -120,6 +122,18 @@ def eq12_reduced_inertia(j_1a, m2, v_s2, j_2s, u21, j_3d, u31, m4, v_py):
     """(12) ``J_red = J_1A + m2 (V_S2/omega1)^2 + J_2S U21^2 + J_3D U31^2 + m4 (V_Py/omega1)^2``
     with the velocities given as analogs (per unit crank speed)."""
     return j_1a + m2 * v_s2**2 + j_2s * u21**2 + j_3d * u31**2 + m4 * v_py**2
+
+
+def eq20_f43(g4, phi4, psi, gamma):
+    """(20) ``F43 = -G4 cos(psi + gamma) - Phi4`` (N; ``Phi4 = -m4 a_N`` the striker's inertia
+    force; the axis pointing down the guide, the way gravity pulls the striker at zero tilt):
+    the rocker's force on the striker (the text says the striker's on the rocker)."""
+    return -g4 * np.cos(psi + gamma) - phi4
+
+
+def eq21_f45(g4, psi, gamma):
+    """(21) the guide's normal force on the striker ``F45 = -G4 sin(psi + gamma)`` (N)."""
+    return -g4 * np.sin(psi + gamma)
 
 
 # ----------------------------------------------------------------------------- exact values
@@ -418,6 +432,11 @@ ERRATA = [
     "acceleration (the contact slides along the profile); for the involute a_N = eps3 R_EB "
     "exactly, while the projection gives eps3 R_EB - omega3^2 L_EB (and the printed form, with "
     "cos, eps3 L_EB - omega3^2 R_EB).",
+    "(20): the d'Alembert sum (19) is over the striker's forces, so F43 = -G4 cos(psi+gamma) - "
+    "Phi4 is the rocker's force on the striker (projected on the axis pointing down the guide), "
+    "not the striker's force on the rocker as the text says; (21) is exact as printed. (22)-(28) "
+    "(the rocker's joint forces) refer to figures missing from the text and are not checked "
+    "term by term: the joint forces come from the general kinetostatics, power-balanced.",
     "Findings at the special position (rho = 90: V_N = V_K; rho > 90: V_N < V_K; rho < 90: "
     "V_N > V_K): the first is exact for any rod (K moves along the guide there); the other two "
     "hold only for the striker behind K and a rod leaning by more than |90 deg - rho| / 2 from "
