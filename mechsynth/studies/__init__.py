@@ -31,6 +31,10 @@ STUDIES: dict[str, tuple[str, str]] = {
         "mechsynth.studies.nail_header",
         "Paper 003a: AB4115 nail-header reactions (Table 1) and the optimal slider mass",
     ),
+    "impact": (
+        "mechsynth.studies.impact",
+        "Paper 001: six-link and five-link percussive machines, the blow, motor drive, forces",
+    ),
     "spatial-pump": (
         "mechsynth.studies.spatial_pump",
         "Paper 002: spatial pumping-unit drive, redundant vs rational; pitman split tolerances",
