@@ -6,20 +6,83 @@ angles and designs), CasADi exact derivatives for IPOPT, and cvxpy convex subpro
 >>> import mechsynth as ms
 >>> sc = ms.SliderCrank(crank=0.07, rod=0.24, offset=0.0)
 >>> m = sc.motion(ms.cycle(720), speed=ms.rpm(600))
+
+``import mechsynth`` is light (numpy and the units): the layers load on first use of a name
+(``ms.SliderCrank`` loads the kinematics), and the heavy libraries (scipy's integrators and
+optimizers, cvxpy, CasADi, numba, matplotlib) only where a call needs them.
 """
 
-from . import display, kinematics, objectives, progress
-from .display import display_units
+from __future__ import annotations
+
+import importlib
+
 from .errors import MechanismError, SolverError
-from .kinematics import FourBar, Linkage, Motion, Param, SliderCrank
-from .machines.dwell import DwellSliderCrank
-from .machines.impact import crank_rocker, five_link, six_link
-from .machines.nail_header import NailHeader
-from .machines.pumping_unit import BeamPumpingUnit, SpatialPumpingUnit
-from .synthesis import Problem, Result
 from .units import cycle, deg, dms, inch, rpm, spm, to_deg, to_inch, to_rpm
 
 __version__ = "0.1.0"
+
+#: public name -> module that defines it (imported on first access)
+_LAZY = {
+    "display_units": "display",
+    "FourBar": "kinematics",
+    "Linkage": "kinematics",
+    "Motion": "kinematics",
+    "Param": "kinematics",
+    "SliderCrank": "kinematics",
+    "DwellSliderCrank": "machines.dwell",
+    "NailHeader": "machines.nail_header",
+    "BeamPumpingUnit": "machines.pumping_unit",
+    "SpatialPumpingUnit": "machines.pumping_unit",
+    "crank_rocker": "machines.impact",
+    "five_link": "machines.impact",
+    "six_link": "machines.impact",
+    "Problem": "synthesis",
+    "Result": "synthesis",
+}
+_SUBPACKAGES = (
+    "display",
+    "progress",
+    "kinematics",
+    "dynamics",
+    "objectives",
+    "synthesis",
+    "machines",
+    "studies",
+)
+
+#: modules that register something with a lower layer when imported (the force model of a
+#: Linkage, the machines' mechanisms and measures for problem and design files); loaded by
+#: :func:`load_registrations` when a registry is asked for a name it does not hold.
+_REGISTRARS = (
+    "dynamics.linkage_forces",
+    "synthesis.linkage_file",
+    "machines.pumping_unit",
+    "machines.nail_header",
+    "machines.dwell",
+    "machines.impact",
+)
+
+
+def load_registrations() -> None:
+    """Import the modules that fill the registries (idempotent; cheap after the first call)."""
+    for name in _REGISTRARS:
+        importlib.import_module(f"{__name__}.{name}")
+
+
+def __getattr__(name: str):
+    if name in _LAZY:
+        value = getattr(importlib.import_module(f"{__name__}.{_LAZY[name]}"), name)
+    elif name in _SUBPACKAGES:
+        value = importlib.import_module(f"{__name__}.{name}")
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY) | set(_SUBPACKAGES))
+
 
 __all__ = [
     "display",

@@ -16,8 +16,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import solve_ivp
-from scipy.optimize import brentq
 
 from .motor import InductionMotor
 
@@ -98,6 +96,8 @@ def _rhs(model, drive):
 
 def _one_cycle(model, drive, w0, n, rtol):
     phi = np.linspace(0.0, 2 * np.pi, n + 1)
+    from scipy.integrate import solve_ivp  # deferred: a heavy import few scripts need
+
     sol = solve_ivp(
         _rhs(model, drive),
         (0.0, 2 * np.pi),
@@ -120,6 +120,8 @@ def run_up(model, drive, omega0, turns=1.0, n=360, rtol=1e-10):
     w0 = _check_omega0(omega0)
     end = 2 * np.pi * float(turns)
     phi = np.linspace(0.0, end, int(round(n * turns)) + 1)
+    from scipy.integrate import solve_ivp  # deferred: a heavy import few scripts need
+
     sol = solve_ivp(
         _rhs(model, drive),
         (0.0, end),
@@ -268,5 +270,7 @@ def size_flywheel(model, drive, omega0, delta, n=180, j_max=None, rtol=1e-6):
         hi *= 4.0
         if hi > 1e9:
             raise ValueError("no flywheel up to 1e9 kg m^2 reaches the requested delta")
+    from scipy.optimize import brentq
+
     jf = brentq(f, 0.0, hi, rtol=rtol)
     return jf, steady_cycle(model.with_flywheel(jf), drive, start[0], n=n)

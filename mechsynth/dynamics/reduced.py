@@ -12,7 +12,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.interpolate import CubicHermiteSpline
 
 from .inertia import com_track, reduced_inertia
 
@@ -82,6 +81,8 @@ class ReducedModel:
         j = np.asarray(self.j_grid, dtype=float)
         if np.any(j + self.flywheel <= 0):
             raise ValueError(f"reduced inertia must be positive, min {j.min() + self.flywheel}")
+        from scipy.interpolate import CubicHermiteSpline  # deferred: heavy
+
         sj = CubicHermiteSpline(phi, j, np.asarray(self.dj_grid, dtype=float))
         m = np.asarray(self.m_grid, dtype=float)
         if self.dm_grid is None:

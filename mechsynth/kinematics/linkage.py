@@ -1153,8 +1153,10 @@ class Linkage(Drawable):
         its mass properties ``inertias[name]`` (a ``LinkInertia``, or ``(mass, (u, v),
         inertia)`` in the body's frame; massless when absent), every joint (named as
         :meth:`joints`), the ``loads`` and the crank as the driver."""
-        if _FORCES.builder is None:  # pragma: no cover - mechsynth.dynamics registers it
-            raise RuntimeError("force models need mechsynth.dynamics (import mechsynth)")
+        if _FORCES.builder is None:  # the forces layer registers it when imported
+            from .. import load_registrations
+
+            load_registrations()
         return _FORCES.builder(self, inertias, loads)
 
 

@@ -13,7 +13,6 @@ import csv
 from pathlib import Path
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
 from ..kinematics.extreme_velocity import (
     ERRATA,
@@ -93,6 +92,8 @@ def table_1():
 
 def _numeric_extremes(i, e0):
     """(phi_max, s0_max, phi_min, s0_min) of the paper's s0 by dense sampling + bounded search."""
+    from scipy.optimize import minimize_scalar  # deferred: heavy
+
     grid = np.linspace(0.0, 2 * np.pi, 2001)
     s = velocity_analog(grid, i, e0)
     out = []

@@ -12,7 +12,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
 from ..units import cycle
 
@@ -60,6 +59,8 @@ def true_peak(atom, mechanism, speed=None, n_dense=2048, window=1e-2, max_candid
     q = _q(atom, mechanism, speed, phi)
     top = float(q.max())
     spread = max(float(q.max() - q.min()), abs(top), 1e-300)
+    from scipy.optimize import minimize_scalar  # deferred: heavy
+
     candidates = []
     for j, qj in enumerate(q):
         is_local = (qj >= np.roll(qj, 1)) & (qj >= np.roll(qj, -1)) & (qj >= top - window * spread)

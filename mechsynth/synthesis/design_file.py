@@ -21,6 +21,7 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
+from .. import load_registrations
 from .problem_file import MECHANISMS, parse_quantity
 
 __all__ = ["DesignSpec", "load_design", "design_mechanisms", "read_toml", "register_design"]
@@ -41,6 +42,7 @@ def register_design(name: str, cls) -> None:
 def design_mechanisms() -> dict[str, type]:
     """Mechanism name in design files -> class: those of problem files and those the machines
     registered (the dwell linkage, the nail header)."""
+    load_registrations()
     return {**MECHANISMS, **_DESIGNS}
 
 

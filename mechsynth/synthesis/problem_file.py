@@ -51,6 +51,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import load_registrations
 from ..kinematics import FourBar, SliderCrank
 from ..objectives.base import Constraint, Measure
 from ..objectives.kinematic import KINEMATIC_MEASURES
@@ -143,6 +144,8 @@ def parse_measure(text: str) -> Measure:
         raise ValueError(f"cannot read the measure {text!r}: expected name or name(args)")
     name, argtext = m.group(1), m.group(2)
     if name not in MEASURES:
+        load_registrations()  # the machines register their measures when imported
+    if name not in MEASURES:
         raise ValueError(f"unknown measure {name!r}; known measures: {', '.join(sorted(MEASURES))}")
     args, kwargs = [], {}
     if argtext and argtext.strip():
@@ -169,6 +172,8 @@ def parse_constraint(spec) -> Constraint:
             name, op, value = spec["measure"], spec["op"], spec["value"]
         except KeyError as exc:
             raise ValueError(f"constraint table needs measure, op and value: {spec!r}") from exc
+        if name not in MEASURES:
+            load_registrations()
         if name not in MEASURES:
             raise ValueError(f"unknown measure {name!r}; known: {', '.join(sorted(MEASURES))}")
         measure = MEASURES[name](*spec.get("args", []), **spec.get("kwargs", {}))
@@ -236,6 +241,8 @@ def load_problem(source) -> ProblemSpec:
                 raise ValueError(f"{path}: not valid TOML ({exc})") from exc
     where = f"{path}: " if path else ""
     name = data.get("mechanism")
+    if name not in MECHANISMS:
+        load_registrations()  # the machines register their mechanisms when imported
     # a mechanism read from the file's own tables (a linkage) declares them
     kind = MECHANISMS.get(name) if isinstance(name, str) else None
     unknown = set(data) - _TOP_KEYS - set(getattr(kind, "file_keys", ()))

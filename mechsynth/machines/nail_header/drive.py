@@ -45,7 +45,6 @@ import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from ...dynamics.equation_of_motion import energy_stepping, steady_cycle
 from ...dynamics.inertia import kinetic_energy, reduced_inertia
@@ -274,6 +273,8 @@ def default_motor(gear_ratio=None, header: NailHeader | None = None, load_torque
             f"torque of {m_l:.6g} N m at {header.n1:.6g} rpm (breakdown "
             f"{base.efficiency * u_k * base.breakdown_torque:.6g} N m at the crank)"
         )
+    from scipy.optimize import brentq  # deferred: heavy
+
     u = brentq(lambda x: float(motor(x).torque(w)) - m_l, u_k, u_sync, xtol=1e-14, rtol=1e-14)
     return motor(u)
 

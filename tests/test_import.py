@@ -1,0 +1,81 @@
+"""``import mechsynth`` is light: the heavy libraries load on first use, never at import.
+
+Each check runs in a fresh interpreter (``sys.modules`` of this test process already holds
+everything), from the checkout's root.
+"""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+HEAVY = ["scipy", "cvxpy", "casadi", "numba", "matplotlib", "tqdm", "sympy"]
+
+
+def _loaded(code: str) -> list[str]:
+    """The heavy top-level modules in ``sys.modules`` after running ``code`` in a fresh
+    interpreter."""
+    probe = f"{code}\nimport json, sys\nprint(json.dumps(sorted(sys.modules)))"
+    out = subprocess.run(
+        [sys.executable, "-c", probe], cwd=ROOT, capture_output=True, text=True, check=True
+    ).stdout
+    modules = set(json.loads(out.strip().splitlines()[-1]))
+    return sorted(m for m in modules if m.split(".")[0] in HEAVY)
+
+
+def test_package_import_loads_no_heavy_module():
+    assert _loaded("import mechsynth") == []
+
+
+@pytest.mark.parametrize(
+    "code",
+    [
+        "import mechsynth as ms; ms.SliderCrank(0.07, 0.24, 0.01).motion(ms.cycle(36))",
+        "import mechsynth as ms; ms.FourBar(1.0, 4.3, 3.0, 5.2).motion(ms.cycle(36))",
+        "import mechsynth.objectives, mechsynth.dynamics",
+        "import mechsynth.synthesis, mechsynth.machines.pumping_unit",
+    ],
+)
+def test_models_and_layers_load_no_integrator_solver_or_plotting(code):
+    # scipy.integrate (0.4 s), the solvers' and the plotting libraries load where they are used
+    bad = {"scipy.integrate", "cvxpy", "casadi", "numba", "matplotlib"}
+    assert [m for m in _loaded(code) if m in bad or m.split(".")[0] in bad] == []
+
+
+def test_public_names_resolve_lazily():
+    code = (
+        "import mechsynth as ms, json\n"
+        "missing = [n for n in ms.__all__ if getattr(ms, n, None) is None]\n"
+        "print(json.dumps(missing))\n"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True
+    ).stdout
+    assert json.loads(out.strip().splitlines()[0]) == []
+    import mechsynth as ms
+
+    assert set(ms.__all__) <= set(dir(ms))
+    with pytest.raises(AttributeError, match="no attribute 'nonesuch'"):
+        ms.nonesuch  # noqa: B018
+
+
+def test_registries_fill_on_demand_without_the_package_api():
+    # a problem file naming a machine, and a linkage's force model, work when only the layer
+    # that reads them was imported (the machines and the forces layer register on a miss)
+    code = (
+        "from mechsynth.synthesis.problem_file import load_problem\n"
+        "spec = load_problem('examples/optimize_beam_pump.toml')\n"
+        "from mechsynth.kinematics import Linkage\n"
+        "lk = Linkage(ground={'O': (0, 0)}).crank('A', about='O', length=0.05)"
+        ".rrp('B', ('A', 0.2), guide=((0, 0), 0.0))\n"
+        "fm = lk.force_model({'AB': (1.0, (0.1, 0.0), 0.01)})\n"
+        "print(type(spec).__name__, type(fm).__name__)\n"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True
+    )
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["ProblemSpec", "ForceModel"]
