@@ -36,7 +36,7 @@ def test_package_import_loads_no_heavy_module():
         "import mechsynth as ms; ms.SliderCrank(0.07, 0.24, 0.01).motion(ms.cycle(36))",
         "import mechsynth as ms; ms.FourBar(1.0, 4.3, 3.0, 5.2).motion(ms.cycle(36))",
         "import mechsynth.objectives, mechsynth.dynamics",
-        "import mechsynth.synthesis, mechsynth.machines.pumping_unit",
+        "import mechsynth.synthesis, mechsynth.machines.pumping_unit, mechsynth.machines.impact",
     ],
 )
 def test_models_and_layers_load_no_integrator_solver_or_plotting(code):
@@ -74,8 +74,6 @@ def test_registries_fill_on_demand_without_the_package_api():
         "fm = lk.force_model({'AB': (1.0, (0.1, 0.0), 0.01)})\n"
         "print(type(spec).__name__, type(fm).__name__)\n"
     )
-    out = subprocess.run(
-        [sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True
-    )
+    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True)
     assert out.returncode == 0, out.stderr
     assert out.stdout.split() == ["ProblemSpec", "ForceModel"]

@@ -26,8 +26,6 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.integrate import solve_ivp
-from scipy.optimize import brentq
 
 from ...dynamics.equation_of_motion import quartic_coefficients
 from ...dynamics.inertia import reduced_inertia
@@ -211,6 +209,8 @@ def motor_for(machine: ImpactMachine, gear_ratio=None) -> InductionMotor:
                 f"mean torque {m_l:.6g} N m at {machine.speed_rpm:.6g} rpm (breakdown "
                 f"{u_k * base.breakdown_torque:.6g} N m at the crank)"
             )
+        from scipy.optimize import brentq  # deferred: heavy
+
         new = brentq(lambda x, m_l=m_l: float(motor(x).torque(w)) - m_l, u_k, u_sync, xtol=1e-14)
         if abs(new - u) < 1e-12 * u:
             u = new
@@ -294,6 +294,8 @@ def _rhs(model, motor):
 
 
 def _turn_ivp(model, motor, phi, w0, rtol):
+    from scipy.integrate import solve_ivp  # deferred: heavy
+
     sol = solve_ivp(
         _rhs(model, motor),
         (phi[0], phi[-1]),
@@ -428,6 +430,8 @@ def start_up(machine: ImpactMachine, motor=None, *, duration=0.6, samples=3000, 
 
         hit.terminal, hit.direction = True, 1
         grid = t_grid[(t_grid > t0) & (t_grid <= duration)]
+        from scipy.integrate import solve_ivp  # deferred: heavy
+
         sol = solve_ivp(
             f, (t0, duration), y, t_eval=grid, events=hit, rtol=1e-10, atol=1e-12, method="DOP853"
         )
@@ -466,5 +470,7 @@ def size_flywheel(machine: ImpactMachine, delta, motor=None, *, n=360, hi=1.0):
         hi *= 4.0
         if hi > 1e4:
             raise ValueError(f"no flywheel up to 1e4 kg m^2 reaches delta = {delta}")
+    from scipy.optimize import brentq  # deferred: heavy
+
     jf = brentq(lambda x: run(x).delta - delta, 0.0, hi, rtol=1e-6)
     return float(jf), run(jf)
