@@ -240,7 +240,7 @@ def test_assembly_failure_names_group_angle_and_condition():
 
 def test_builder_errors_name_what_is_wrong():
     lk = ms.Linkage(ground={"O": (0, 0), "D": (0.1, 0)})
-    with pytest.raises(ValueError, match="add the crank first"):
+    with pytest.raises(ValueError, match="add the driver first"):
         lk.rrr("B", ("O", 0.1), ("D", 0.1))
     c = lk.crank("A", about="O", length=0.02)
     with pytest.raises(ValueError, match="one driver"):

@@ -89,7 +89,7 @@ def test_every_group_type_and_named_dimensions():
     [
         ({"ground": {"O": [0]}}, r"\[ground\] O: expected \[x, y\]"),
         ({"ground": {"O": ["3 furlong", 0]}}, r"\[ground\] O: unknown unit 'furlong'"),
-        ({"group": []}, r"\[\[group\]\]: give the crank"),
+        ({"group": []}, r"\[\[group\]\]: give the driver"),
         ({"group": [{"type": "gear"}]}, r"\[\[group\]\] 1: type must be one of crank, rrr"),
         (
             {"group": [{"type": "crank", "point": "A", "about": "O", "lenght": 0.1}]},

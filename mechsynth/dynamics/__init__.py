@@ -12,6 +12,7 @@ from .equation_of_motion import (
 from .inertia import LinkInertia, com_track, kinetic_energy, reduced_inertia
 from .kinetostatics import (
     Contact,
+    DrivingForce,
     ForceModel,
     ForceResult,
     Prismatic,
@@ -30,6 +31,6 @@ __all__ += ["InductionMotor", "LinearDrive", "ReducedModel", "gravity_moment"]
 __all__ += ["point_force_moment", "reduced_model", "CycleResult", "energy_method_flywheel"]
 __all__ += ["energy_stepping", "quartic_coefficients", "size_flywheel", "steady_cycle", "run_up"]
 __all__ += ["ForceModel", "ForceResult", "Prismatic", "Revolute", "Contact", "four_bar_model"]
-__all__ += ["linkage_force_model"]
+__all__ += ["linkage_force_model", "DrivingForce"]
 __all__ += ["kinetostatics", "slider_crank_model", "Gravity", "PointForce", "TabulatedLoad"]
 __all__ += ["Torque", "TorsionSpring", "upsetting_force"]

@@ -8,7 +8,8 @@ form one square linear system per crank angle in the unknowns
 * the reaction of every revolute joint (two components),
 * the normal force and the moment of every prismatic pair (two numbers),
 * the normal force of every higher-pair contact (one number, along the common normal),
-* the balancing (driving) torque on the crank,
+* the balancing (driving) torque on the crank -- or, for a linear input (a driving slider,
+  :class:`DrivingForce`), the driving force along its guide,
 
 and all angles are solved at once by one batched ``numpy.linalg.solve``.
 
@@ -36,6 +37,7 @@ __all__ = [
     "Revolute",
     "Prismatic",
     "Contact",
+    "DrivingForce",
     "ForceModel",
     "ForceResult",
     "kinetostatics",
@@ -87,6 +89,18 @@ class Contact:
     normal: Any = 0.0
 
 
+@dataclass(frozen=True)
+class DrivingForce:
+    """A linear input: the driving body is pushed along ``direction`` (a link name in
+    ``motion.links`` whose angle it follows, or a constant angle in rad) through the motion point
+    ``point`` by the driving force, the unknown that takes the balancing torque's place
+    (``ForceResult.torque`` is then that force, N, and its power is force times the input's
+    speed)."""
+
+    point: str
+    direction: Any = 0.0
+
+
 def _unknowns(joint) -> int:
     return 1 if isinstance(joint, Contact) else 2
 
@@ -102,12 +116,15 @@ class ForceModel:
         the drive they must give exactly ``3 * len(bodies)`` unknowns.
     loads : objects with ``contributions(motion, bodies) -> [Wrench]`` (see ``dynamics.loads``).
     driver : the body that receives the balancing torque (the crank).
+    drive : None for a balancing torque on ``driver``; a :class:`DrivingForce` for a driving
+        force along a guide (a driving slider).
     """
 
     bodies: dict[str, LinkInertia]
     joints: tuple
     loads: tuple = ()
     driver: str = "crank"
+    drive: DrivingForce | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "joints", tuple(self.joints))
@@ -127,13 +144,13 @@ class ForceModel:
             )
 
     def replace_loads(self, loads) -> ForceModel:
-        return ForceModel(self.bodies, self.joints, tuple(loads), self.driver)
+        return ForceModel(self.bodies, self.joints, tuple(loads), self.driver, self.drive)
 
     def with_body(self, name, body: LinkInertia) -> ForceModel:
         """A copy with the mass properties of body ``name`` replaced."""
         bodies = dict(self.bodies)
         bodies[name] = body
-        return ForceModel(bodies, self.joints, self.loads, self.driver)
+        return ForceModel(bodies, self.joints, self.loads, self.driver, self.drive)
 
 
 @dataclass(frozen=True)
@@ -147,7 +164,10 @@ class ForceResult:
         for revolute joints, and the normal force as a vector for prismatic pairs.
     normals : ``{joint: (N, M)}`` normal force (N) and moment (N m) of prismatic pairs; for a
         contact ``(F, 0)``, its normal force.
-    torque : balancing torque on the driving body (N m, counter-clockwise positive).
+    torque : balancing torque on the driving body (N m, counter-clockwise positive); for a
+        linear input (``drive == "force"``) the driving force along its guide (N, positive in
+        the direction of growing input), also as :attr:`driving_force`.
+    drive : ``"torque"`` or ``"force"``.
     """
 
     phi: Any
@@ -156,6 +176,14 @@ class ForceResult:
     torque: Any
     omega: Any = None
     extra: dict = field(default_factory=dict)
+    drive: str = "torque"
+
+    @property
+    def driving_force(self):
+        """The driving force (N) of a linear input along its guide at every input."""
+        if self.drive != "force":
+            raise ValueError("the input is a crank: its drive is the balancing torque (torque)")
+        return self.torque
 
     def magnitude(self, joint: str):
         """Magnitude of the reaction at ``joint`` (N) at every angle."""
@@ -184,7 +212,10 @@ class ForceResult:
             ]
         for j, (n, m) in self.normals.items():
             cols += [(f"{j} normal force", "N", arr(n)), (f"{j} moment", "N m", arr(m))]
-        cols.append(("balancing torque", "N m", arr(self.torque)))
+        if self.drive == "force":
+            cols.append(("driving force", "N", arr(self.torque)))
+        else:
+            cols.append(("balancing torque", "N m", arr(self.torque)))
         return tables.table(cols)
 
     def to_dict(self) -> dict[str, list]:
@@ -317,7 +348,17 @@ def _entries(model: ForceModel, motion: Motion):
                 for dr in range(3):
                     if not (isinstance(col[dr], float) and col[dr] == 0.0):
                         acc(A, (r + dr, c + dc), sign * col[dr])
-    acc(A, (row[model.driver] + 2, n - 1), 1.0)
+    if model.drive is None:
+        acc(A, (row[model.driver] + 2, n - 1), 1.0)
+    else:
+        d = model.drive.direction
+        th = motion.links[d].angle if isinstance(d, str) else d
+        p = motion.points[model.drive.point]
+        ux, uy = ops.cos(th), ops.sin(th)
+        r = row[model.driver]
+        acc(A, (r, n - 1), ux)
+        acc(A, (r + 1, n - 1), uy)
+        acc(A, (r + 2, n - 1), p.x * uy - p.y * ux)
     return A, f, n
 
 
@@ -362,7 +403,9 @@ def kinetostatics(model: ForceModel, motion: Motion) -> ForceResult:
         X = _solve_symbolic(A_ent, f_ent, n, motion)
         cols = [X[:, k] for k in range(n)]
         reactions, normals = _reactions(model, motion, cols, lambda th: th)
-        return ForceResult(motion.phi, reactions, normals, cols[n - 1], motion.omega)
+        return ForceResult(
+            motion.phi, reactions, normals, cols[n - 1], motion.omega, drive=_drive_kind(model)
+        )
 
     phi = np.asarray(motion.phi, dtype=float)
     shape = np.broadcast_shapes(
@@ -382,13 +425,24 @@ def kinetostatics(model: ForceModel, motion: Motion) -> ForceResult:
     if X is None or not np.all(np.isfinite(X)):
         cond = np.linalg.cond(A)
         i = np.unravel_index(int(np.argmax(~np.isfinite(cond) | (cond > 1e14))), cond.shape)
+        at = np.broadcast_to(phi, shape)[i]
+        where = (
+            f"crank angle {np.rad2deg(at):.6g} deg"
+            if model.drive is None
+            else f"input {at:.6g} (m of the driving slider)"
+        )
         raise ValueError(
-            "kinetostatics: singular equilibrium system at crank angle "
-            f"{np.rad2deg(np.broadcast_to(phi, shape)[i]):.6g} deg (toggle or ill-posed model)"
+            f"kinetostatics: singular equilibrium system at {where} (toggle or ill-posed model)"
         )
     cols = [X[..., k] for k in range(n)]
     reactions, normals = _reactions(model, motion, cols, lambda th: _as(th, shape))
-    return ForceResult(motion.phi, reactions, normals, X[..., n - 1], motion.omega)
+    return ForceResult(
+        motion.phi, reactions, normals, X[..., n - 1], motion.omega, drive=_drive_kind(model)
+    )
+
+
+def _drive_kind(model: ForceModel) -> str:
+    return "torque" if model.drive is None else "force"
 
 
 def _reactions(model, motion, cols, shaped):

@@ -4,7 +4,9 @@ Every moving body of the linkage becomes a body of a
 :class:`~mechsynth.dynamics.kinetostatics.ForceModel` (its frame: origin at the body's base point,
 x axis along its angle in ``motion.links``), every kinematic pair a joint (revolute, prismatic or
 the one-unknown :class:`~mechsynth.dynamics.kinetostatics.Contact` of a cam), and the crank the
-driver. Joint names are the linkage's (:meth:`Linkage.joints`): a revolute joint is named after
+driver -- or a driving slider's block, pushed along its guide by the driving force
+(:class:`~mechsynth.dynamics.kinetostatics.DrivingForce`) instead of a balancing torque.
+Joint names are the linkage's (:meth:`Linkage.joints`): a revolute joint is named after
 its point, a guide ``"<slider>_guide"``, an RPR slot ``"<link>_slot"``, a cam contact
 ``"<follower>_contact"``; each reports the force on its ``on`` body from its ``by`` body.
 
@@ -18,7 +20,7 @@ from collections.abc import Mapping
 
 from ..kinematics.linkage import Linkage, register_force_builder
 from .inertia import LinkInertia
-from .kinetostatics import FRAME, Contact, ForceModel, Prismatic, Revolute
+from .kinetostatics import FRAME, Contact, DrivingForce, ForceModel, Prismatic, Revolute
 
 __all__ = ["linkage_force_model"]
 
@@ -67,7 +69,8 @@ def linkage_force_model(lk: Linkage, inertias: Mapping | None = None, loads=()) 
 
     Returns
     -------
-    ForceModel with the crank as the driver.
+    ForceModel with the crank as the driver (the balancing torque), or for a linkage driven by
+    a slider its block pushed along the guide (:class:`DrivingForce`: the driving force).
     """
     topo = lk.topology()
     inertias = dict(inertias or {})
@@ -86,7 +89,10 @@ def linkage_force_model(lk: Linkage, inertias: Mapping | None = None, loads=()) 
             joints.append(Prismatic(j.name, j.on, by, j.point, j.direction))
         else:
             joints.append(Contact(j.name, j.on, by, j.point, j.normal))
-    return ForceModel(bodies, tuple(joints), tuple(loads), topo.driver)
+    drive = None
+    if lk.driver == "slider":  # a linear input: the driving force along its guide
+        drive = DrivingForce(lk.groups[0].key, topo.driver)
+    return ForceModel(bodies, tuple(joints), tuple(loads), topo.driver, drive)
 
 
 register_force_builder(linkage_force_model)

@@ -45,9 +45,12 @@ def _wrapped(text: str, width: int = 64) -> str:
 
 
 def _angle_text(sketch: Sketch, frame: int, short: bool = False) -> str:
-    """``"crank angle φ = 30.0°"`` (``"φ = 30.0°"`` when short), in [0, 360) deg or rad."""
-    value = display.angle_position(float(np.asarray(sketch.angles)[frame]))
+    """``"crank angle φ = 30.0°"`` (``"φ = 30.0°"`` when short), in [0, 360) deg or rad; a
+    length input (a driving slider's displacement) in display length units."""
     name = sketch.angle_symbol if short else sketch.angle_label
+    if getattr(sketch, "angle_unit", "rad") == "m":
+        return f"{name} = {display.fmt(float(np.asarray(sketch.angles)[frame]), 'm', 4)}"
+    value = display.angle_position(float(np.asarray(sketch.angles)[frame]))
     if display.current().angle == "deg":
         return f"{name} = {value:.1f}°"
     return f"{name} = {value:.3f} rad"
@@ -432,15 +435,18 @@ class MechanismAnimation(manim.FuncAnimation):
 
 def _playback(sketch: Sketch, speed, duration):
     """(machine seconds per frame or None, playback seconds per frame, playback text)."""
-    angles = np.unwrap(np.asarray(sketch.angles, dtype=float))
+    length = getattr(sketch, "angle_unit", "rad") == "m"
+    angles = np.asarray(sketch.angles, dtype=float)
+    angles = angles if length else np.unwrap(angles)
     n = angles.size
     step = float(np.median(np.abs(np.diff(angles)))) if n > 1 else 2.0 * np.pi
     step = step if step > 0 else 2.0 * np.pi / max(n, 1)
-    per_turn = 2.0 * np.pi / step  # frames per crank turn
+    # frames per crank turn; a length input (a driving slider) shows one cycle in its frames
+    per_turn = float(n) if length else 2.0 * np.pi / step
     if speed is None:
         total = 3.0 * n / per_turn if duration is None else float(duration)
         interval = total / n
-        return None, interval, f"{interval * per_turn:.3g} s per turn"
+        return None, interval, f"{interval * per_turn:.3g} s per {'cycle' if length else 'turn'}"
     dt = step / abs(float(speed))
     real = dt * n
     if duration is None:

@@ -36,6 +36,7 @@ Conventions (see ``docs/linkages.md``)
 from __future__ import annotations
 
 import numbers
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -59,6 +60,7 @@ from .linkage_groups import (
     RPRGroup,
     RRPGroup,
     RRRGroup,
+    SliderDriverGroup,
     _State,
 )
 from .mechanism import Drawable, check_finite, check_length, speed_pair
@@ -401,8 +403,7 @@ class Linkage(Drawable):
         """The driving crank: ``point`` at ``length`` (m) from the ground point ``about``, at the
         angle ``phi + phase`` (rad) from +x. Its link is named ``link`` (default
         ``about + point``, e.g. ``"OA"``); parameters ``"OA"`` (length) and ``"phase"``."""
-        if any(isinstance(g, CrankGroup) for g in self._groups):
-            raise ValueError("the linkage has a crank already (one driver)")
+        self._require_no_driver()
         new = self._copy()
         what = f"crank {point}"
         new._check_new_point(point)
@@ -416,9 +417,129 @@ class Linkage(Drawable):
         )
         return new._with(CrankGroup(point, params, about=about, link=link))
 
+    def _require_no_driver(self):
+        if self._groups and isinstance(self._groups[0], CrankGroup | SliderDriverGroup):
+            raise ValueError(
+                f"the linkage has a driver already ({self._groups[0].label}): one driver"
+            )
+
     def _require_crank(self, what):
-        if not self._groups or not isinstance(self._groups[0], CrankGroup):
-            raise ValueError(f"{what}: add the crank first (groups are solved in order)")
+        """The driver (a crank or a driving slider) comes first."""
+        if not self._groups or not isinstance(self._groups[0], CrankGroup | SliderDriverGroup):
+            raise ValueError(
+                f"{what}: add the driver first, .crank(...) or .slider(...) (groups are solved "
+                "in order)"
+            )
+
+    def slider(self, point: str, guide, travel, offset=None, link: str | None = None) -> Linkage:
+        """The driver as a linear input (a driving slider): ``point`` on a block pushed along a
+        fixed straight guide by a prescribed displacement ``s``, the input of :meth:`motion`
+        (m, along the guide direction from the guide's point; a speed is then in m/s).
+
+        Parameters
+        ----------
+        point : the driven point's name.
+        guide : ``(through, angle)`` as in :meth:`rrp`, fixed: ``through`` coordinates
+            ``(x, y)`` or a ground point's name (then ``offset``, m, to its left); ``angle``
+            (rad from +x) the direction in which ``s`` grows. Parameters ``point + "_guide_x"``,
+            ``"_guide_y"`` (or ``"_guide_offset"``) and ``"_guide_angle"``.
+        travel : ``(lo, hi)``: the displacements (m) the input covers, over which problems
+            certify their peaks, charts sweep and drawings move (a stroke out; the return
+            passes the same positions).
+        link : the block's body name (default ``point``); the force model pushes it along its
+            guide with the driving force.
+        """
+        what = f"driving slider {point}"
+        self._require_no_driver()
+        lo, hi = _travel(travel, what)
+        new = self._copy()
+        new._check_new_point(point)
+        link = new._check_new_body(link or point)
+        g, gparams = new._guide(guide, offset, point, what)
+        if g.frame is not None:
+            raise ValueError(
+                f"{what}: the driving slider's guide must be fixed (coordinates or a ground point)"
+            )
+        return new._with(
+            SliderDriverGroup(point, tuple(gparams), guide=g, link=link, travel=(lo, hi))
+        )
+
+    # ------------------------------------------------------------------ the input
+    @property
+    def driver(self) -> str:
+        """``"crank"`` (the input is the crank angle, rad) or ``"slider"`` (the input is the
+        driving slider's displacement, m)."""
+        self._require_crank("the input")
+        return "slider" if isinstance(self._groups[0], SliderDriverGroup) else "crank"
+
+    @property
+    def input_unit(self) -> str:
+        """SI unit of the input: ``"rad"`` for a crank, ``"m"`` for a driving slider."""
+        return "m" if self.driver == "slider" else "rad"
+
+    @property
+    def input_label(self) -> str:
+        """What the input is, for reports and figures."""
+        if self.driver == "slider":
+            return f"input displacement s of {self._groups[0].key}"
+        return "crank angle φ"
+
+    @property
+    def input_range(self) -> tuple[float, float]:
+        """The inputs a cycle covers: ``(0, 2 pi)`` for a crank (periodic), the ``travel`` of a
+        driving slider (m)."""
+        if self.driver == "slider":
+            return self._groups[0].travel
+        return (0.0, 2.0 * np.pi)
+
+    @property
+    def periodic(self) -> bool:
+        """True when the input is a crank angle (a cycle is one turn and wraps around)."""
+        return self.driver == "crank"
+
+    def input_grid(self, n: int):
+        """``n`` inputs over a cycle: equal crank-angle steps over a turn (``ms.cycle(n)``), or
+        ``n`` equal steps over a driving slider's travel, both ends included."""
+        from ..units import cycle
+
+        if self.periodic:
+            return cycle(int(n))
+        lo, hi = self.input_range
+        return np.linspace(lo, hi, int(n))
+
+    def with_travel(self, lo, hi) -> Linkage:
+        """The same linkage with its driving slider covering the travel ``(lo, hi)`` (m)."""
+        if self.driver != "slider":
+            raise ValueError(f"{self._name} is driven by a crank: it has no travel")
+        from dataclasses import replace
+
+        g = self._groups[0]
+        new = self._copy()
+        new._groups = (replace(g, travel=_travel((lo, hi), g.label)), *self._groups[1:])
+        return new._freeze()
+
+    def turn(self, n: int = 48):
+        """``n`` inputs over one cycle, for drawings: a crank's turn, or a driving slider's
+        travel out and back (harmonic, so the motion reverses smoothly at its ends)."""
+        if self.periodic:
+            return super().turn(n)
+        lo, hi = self.input_range
+        return 0.5 * (lo + hi) - 0.5 * (hi - lo) * np.cos(2.0 * np.pi * np.arange(int(n)) / n)
+
+    def _drawing_sketch(self, phi, n, options):
+        if self.periodic:
+            return super()._drawing_sketch(phi, n, options)
+        from ..errors import MechanismError
+
+        s = float(phi)
+        lo, hi = self.input_range
+        # out and back over the travel, starting at s (clipped to the travel)
+        start = np.arccos(np.clip((0.5 * (lo + hi) - s) / (0.5 * (hi - lo)), -1.0, 1.0))
+        cyc = 0.5 * (lo + hi) - 0.5 * (hi - lo) * np.cos(start + 2.0 * np.pi * np.arange(n) / n)
+        try:
+            return self.sketch(np.concatenate([[s], cyc]), **options)
+        except MechanismError:
+            return self.sketch(np.array([s]), **options)
 
     def rrr(self, point: str, first, second, branch: int = 1, links=None) -> Linkage:
         """RRR dyad: ``point`` at the given distances from two known points,
@@ -821,7 +942,9 @@ class Linkage(Drawable):
             sliders=tuple(sliders),
             outlines=tuple(outlines),
             angles=phi,
-            angle_label="crank angle φ",
+            angle_label=self.input_label if self.periodic else "input s",
+            angle_symbol="φ" if self.periodic else "s",
+            angle_unit=self.input_unit,
             name=self._name,
             labels=named,
             joints=moving,
@@ -834,7 +957,9 @@ class Linkage(Drawable):
     # ------------------------------------------------------------------ solving
     def _solve(self, phi, strict=True) -> _State:
         if not self._groups:
-            raise ValueError(f"{self._name} has no crank: add one with .crank(...)")
+            raise ValueError(
+                f"{self._name} has no driver: add one with .crank(...) or .slider(...)"
+            )
         v = self._values
         st = _State(phi, v, strict, self._bodies)
         for p, x, y in self._ground:
@@ -846,7 +971,10 @@ class Linkage(Drawable):
                 except MechanismError as exc:
                     angles = getattr(exc, "angles", ())
                     detail = self._failure_detail(g, exc, st)
-                    err = MechanismError(f"{g.label}: {exc}{detail}")
+                    text = str(exc)
+                    if isinstance(self._groups[0], SliderDriverGroup):
+                        text = _input_words(text, angles)
+                    err = MechanismError(f"{g.label}: {text}{detail}")
                     err.angles = angles
                     err.group = g.key
                     raise err from None
@@ -891,13 +1019,17 @@ class Linkage(Drawable):
         return st.points, st.links, st.sliders
 
     def motion(self, phi, speed=None, epsilon=0.0) -> Motion:
-        """Motion over crank angles ``phi`` (rad).
+        """Motion over the inputs ``phi``: crank angles (rad), or the displacements ``s`` (m)
+        of a driving slider (:meth:`slider`).
 
         Parameters
         ----------
-        phi : crank angles, any shape (broadcast against array parameters).
-        speed : crank angular velocity (rad/s, e.g. ``ms.rpm(600)``); None gives analogs.
-        epsilon : crank angular acceleration (rad/s^2), with a speed.
+        phi : crank angles (or a driving slider's displacements), any shape (broadcast against
+            array parameters).
+        speed : the input's speed: crank angular velocity (rad/s, e.g. ``ms.rpm(600)``) or the
+            driving slider's velocity (m/s); None gives analogs (derivatives with respect to
+            the input: per rad, or per m of a driving slider).
+        epsilon : the input's acceleration (rad/s^2, or m/s^2), with a speed.
 
         Returns
         -------
@@ -918,9 +1050,9 @@ class Linkage(Drawable):
             try:
                 phi = np.asarray(phi, dtype=float) if np.ndim(phi) else float(phi)
             except (TypeError, ValueError):
-                raise ValueError(f"phi must be crank angles in rad, got {phi!r}") from None
+                raise ValueError(f"phi must be {self._input_words()}, got {phi!r}") from None
             if not np.all(np.isfinite(phi)):
-                raise ValueError("phi must be finite crank angles in rad")
+                raise ValueError(f"phi must be finite {self._input_words()}")
         st = self._solve(phi)
         crank_key = self._groups[0].key
         zero = 0.0 * st.points[crank_key].x
@@ -954,6 +1086,11 @@ class Linkage(Drawable):
             pressure_angles=dict(st.pressure),
             transmission_angles=dict(st.transmission),
         )
+
+    def _input_words(self) -> str:
+        if self._groups and isinstance(self._groups[0], SliderDriverGroup):
+            return "displacements of the driving slider in m"
+        return "crank angles in rad"
 
     def _group_of(self, point) -> Group:
         for g in self._groups:
@@ -994,13 +1131,11 @@ class Linkage(Drawable):
 
     def assembles(self, n: int = 360):
         """Per design, the smallest assembly margin of every condition at ``n`` crank angles
-        (``{condition: value}``, negative where it fails; -1 where an earlier group failed
-        first). A quick screen of batches of designs; :meth:`assembly_margins` has them per
-        angle."""
-        from ..units import cycle
-
+        (``n`` inputs over a driving slider's travel): ``{condition: value}``, negative where
+        it fails; -1 where an earlier group failed first. A quick screen of batches of
+        designs; :meth:`assembly_margins` has them per angle."""
         out = {}
-        margins = self.assembly_margins(cycle(int(n)))
+        margins = self.assembly_margins(self.input_grid(int(n)))
         for c in self.assembly_conditions:
             m = np.asarray(margins[c], dtype=float)
             worst = np.min(np.where(np.isnan(m), np.inf, m), axis=-1)
@@ -1033,6 +1168,13 @@ class Linkage(Drawable):
             f"the output {self.default_output!r} of {self._name} has no strokes (the crank)"
         )
 
+    def _require_crank_input(self, what):
+        if self.driver != "crank":
+            raise ValueError(
+                f"{what} of {self._name}: defined for a crank input only; this linkage is "
+                "driven by a slider (its cycle is its travel, not a turn)"
+            )
+
     def dead_centres(self, of: str | None = None):
         """Crank angles (rad, in about [0, 2 pi)) where the output ``of`` (a slider or link name;
         default: the main output's slider or rocker) reaches its largest and its smallest value:
@@ -1040,6 +1182,7 @@ class Linkage(Drawable):
         velocity analog, written with ``ops``, so they are differentiable with CasADi."""
         from ..units import cycle
 
+        self._require_crank_input("dead centres")
         of = of or self._stroke_output()
         symbolic = self.is_symbolic
         grid = cycle(_SPAN_SAMPLES)
@@ -1077,6 +1220,7 @@ class Linkage(Drawable):
     def crank_spans(self):
         """Crank rotation (rad) from the output's largest to its smallest value and back (they
         add up to 2 pi); see :meth:`dead_centres`."""
+        self._require_crank_input("crank spans")
         hi, lo = self.dead_centres()
         d = lo - hi
         d = ops.where(d < 0.0, d + 2.0 * np.pi, d)
@@ -1086,6 +1230,7 @@ class Linkage(Drawable):
     @property
     def time_ratio(self):
         """Slower stroke over quicker stroke of the main output (>= 1) at constant crank speed."""
+        self._require_crank_input("the time ratio")
         first, second = self.crank_spans
         return ops.fmax(first, second) / ops.fmin(first, second)
 
@@ -1110,7 +1255,7 @@ class Linkage(Drawable):
                 elif kind == "prismatic":
                     name = (
                         f"{on}_guide"
-                        if isinstance(g, RRPGroup | FollowerGroup)
+                        if isinstance(g, RRPGroup | FollowerGroup | SliderDriverGroup)
                         else (f"{g.key}_slot")
                     )
                     out.append(Joint("prismatic", name, point, on, by, direction=spec[4]))
@@ -1127,6 +1272,8 @@ class Linkage(Drawable):
         for g in self._groups:
             if isinstance(g, RRPGroup | FollowerGroup):
                 guides[g.slider] = GuideLine(g.slider, g.guide.carrier, g, self)
+            if isinstance(g, SliderDriverGroup):
+                guides[g.link] = GuideLine(g.link, g.guide.carrier, g, self)
             if isinstance(g, FollowerGroup):
                 profiles[g.key] = Profile(
                     g.key,
@@ -1192,6 +1339,31 @@ class _nullcontext:
 
     def __exit__(self, *exc):
         return False
+
+
+#: how the blocks name the input where they fail (a driving slider's input is a length)
+_CRANK_AT = re.compile(r" at crank angle ([-+0-9.eE]+|nan|inf) deg")
+
+
+def _input_words(text: str, angles) -> str:
+    """A block's failure message for a linkage driven by a slider: its input is a length."""
+
+    def words(mt):
+        s = angles[0] if angles else np.deg2rad(float(mt[1]))
+        return f" at input displacement {s:.6g} m"
+
+    return _CRANK_AT.sub(words, text)
+
+
+def _travel(travel, what) -> tuple[float, float]:
+    """A driving slider's travel ``(lo, hi)`` (m), checked."""
+    try:
+        lo, hi = (float(t) for t in travel)
+    except (TypeError, ValueError):
+        raise ValueError(f"{what}: travel must be (lo, hi) in m, got {travel!r}") from None
+    if not (np.isfinite(lo) and np.isfinite(hi)) or not lo < hi:
+        raise ValueError(f"{what}: travel must be finite with lo < hi (m), got ({lo}, {hi})")
+    return lo, hi
 
 
 def _pair(value, what, role):

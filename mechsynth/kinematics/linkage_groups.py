@@ -42,6 +42,7 @@ __all__ = [
     "Guide",
     "Group",
     "CrankGroup",
+    "SliderDriverGroup",
     "RRRGroup",
     "RRPGroup",
     "RPRGroup",
@@ -327,6 +328,46 @@ class CrankGroup(Group):
 
     def joints(self, owner):
         return (("revolute", self.about, self.link, owner(self.about)),)
+
+
+@dataclass(frozen=True)
+class SliderDriverGroup(Group):
+    """The driver as a linear input: ``point`` on a block driven along a fixed straight
+    ``guide`` by the prescribed displacement ``s`` (the input, m, measured along the guide from
+    its point), over the ``travel`` ``(lo, hi)`` (m) that cycles, charts and drawings cover."""
+
+    guide: Guide = field(default_factory=Guide)
+    link: str = ""
+    travel: tuple[float, float] = (0.0, 1.0)
+
+    kind = "slider input"
+
+    @property
+    def label(self):
+        return f"driving slider {self.key} (block {self.link})"
+
+    def requires(self):
+        return (self.guide.through,) if self.guide.through else ()
+
+    def solve(self, st):
+        _, _, (gx, gy, ga) = _guide_line(st, self.guide, self)
+        s = st.phi
+        c, sn = ops.cos(ga), ops.sin(ga)
+        zero = 0.0 * (s + gx + gy + ga)
+        st.points[self.key] = PointJet(
+            gx + s * c + zero, gy + s * sn + zero, c + zero, sn + zero, zero, zero
+        )
+        st.links[self.link] = Jet(ga + zero, zero, zero)
+        st.sliders[self.link] = Jet(s + zero, 1.0 + zero, zero)
+
+    def new_point(self):
+        return self.key, self.link
+
+    def bodies(self):
+        return (Body(self.link, "slider", self.key, None, self.key),)
+
+    def joints(self, owner):
+        return (("prismatic", self.key, self.link, FRAME, self.link),)
 
 
 # ------------------------------------------------------------------------------ dyads

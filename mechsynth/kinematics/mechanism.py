@@ -24,7 +24,31 @@ __all__ = [
     "speed_pair",
     "fail_where",
     "as_angles",
+    "input_grid",
+    "input_domain",
 ]
+
+
+def input_domain(mechanism) -> tuple[float, float, bool]:
+    """``(lo, hi, periodic)`` of a mechanism's input over one cycle: ``(0, 2 pi, True)`` for a
+    crank (every named mechanism), a driving slider's travel (m) with ``periodic`` False for a
+    :class:`~mechsynth.kinematics.Linkage` driven by one. ``mechanism`` may be a class."""
+    rng = None if isinstance(mechanism, type) else getattr(mechanism, "input_range", None)
+    if rng is None:
+        return 0.0, 2.0 * np.pi, True
+    return float(rng[0]), float(rng[1]), bool(getattr(mechanism, "periodic", True))
+
+
+def input_grid(mechanism, n: int):
+    """``n`` inputs over one cycle of ``mechanism`` (see :func:`input_domain`): equal crank-angle
+    steps over a turn (``ms.cycle(n)``), or equal steps over a driving slider's travel with both
+    ends included."""
+    from ..units import cycle
+
+    lo, hi, periodic = input_domain(mechanism)
+    if periodic:
+        return cycle(int(n), start=lo)
+    return np.linspace(lo, hi, int(n))
 
 
 def _first_bad(arr, bad):

@@ -70,7 +70,8 @@ class Sketch:
     outlines : other polylines.
     angles : the crank angle shown for each frame (rad, in the mechanism's own convention).
     angle_label : how that angle is measured (e.g. ``"crank angle φ from +x, ccw"``);
-        ``angle_symbol`` its symbol (``"φ"``).
+        ``angle_symbol`` its symbol (``"φ"``); ``angle_unit`` ``"rad"``, or ``"m"`` when the
+        input is a length (a driving slider's displacement, shown in display length units).
     name : the mechanism and its design, for titles.
     xlabel : label of the x axis (without unit; default ``"x"``).
     labels : names of the points to label (default: the joints and the ground points).
@@ -85,6 +86,7 @@ class Sketch:
     angles: Any = None
     angle_label: str = "crank angle φ"
     angle_symbol: str = "φ"
+    angle_unit: str = "rad"
     name: str = ""
     xlabel: str = "x"
     labels: tuple[str, ...] | None = None

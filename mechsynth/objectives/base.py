@@ -85,9 +85,9 @@ class Measure:
 
     def evaluate(self, mechanism, phi=None, speed=None):
         """Value for ``mechanism`` over crank angles ``phi`` (default: 720 equal steps)."""
-        from ..units import cycle
+        from ..kinematics.mechanism import input_grid
 
-        phi = cycle(720) if phi is None else phi
+        phi = input_grid(mechanism, 720) if phi is None else phi
         return self.from_motion(mechanism, mechanism.motion(phi, speed=speed))
 
     # -- algebra -------------------------------------------------------------------------

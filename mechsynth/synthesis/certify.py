@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..units import cycle
+from ..kinematics.mechanism import input_domain, input_grid
 
 __all__ = ["PeakCheck", "true_peak", "check_peak"]
 
@@ -44,7 +44,8 @@ def _q(atom, mechanism, speed, phi):
 
 
 def true_peak(atom, mechanism, speed=None, n_dense=2048, window=1e-2, max_candidates=6):
-    """True maximum of ``q`` (the atom's stacked branches) over the crank angle.
+    """True maximum of ``q`` (the atom's stacked branches) over the crank angle (over the travel
+    of a linkage driven by a slider, ends included: its input does not wrap around).
 
     Returns
     -------
@@ -54,8 +55,9 @@ def true_peak(atom, mechanism, speed=None, n_dense=2048, window=1e-2, max_candid
         ``window`` times the range of q of the global maximum, at most ``max_candidates`` per
         branch), each a candidate for the solver grid.
     """
-    phi = cycle(n_dense)
-    h = 2.0 * np.pi / n_dense
+    lo, hi, periodic = input_domain(mechanism)
+    phi = input_grid(mechanism, n_dense)
+    h = (hi - lo) / (n_dense if periodic else n_dense - 1)
     q = _q(atom, mechanism, speed, phi)
     top = float(q.max())
     spread = max(float(q.max() - q.min()), abs(top), 1e-300)
@@ -63,7 +65,10 @@ def true_peak(atom, mechanism, speed=None, n_dense=2048, window=1e-2, max_candid
 
     candidates = []
     for j, qj in enumerate(q):
-        is_local = (qj >= np.roll(qj, 1)) & (qj >= np.roll(qj, -1)) & (qj >= top - window * spread)
+        before, after = np.roll(qj, 1), np.roll(qj, -1)
+        if not periodic:  # the ends of a travel have one neighbour each
+            before[0], after[-1] = -np.inf, -np.inf
+        is_local = (qj >= before) & (qj >= after) & (qj >= top - window * spread)
         idx = np.flatnonzero(is_local)
         if idx.size > max_candidates:
             idx = idx[np.argsort(qj[idx])[-max_candidates:]]
@@ -72,11 +77,14 @@ def true_peak(atom, mechanism, speed=None, n_dense=2048, window=1e-2, max_candid
             def neg(t, j=j):
                 return -_q(atom, mechanism, speed, np.array([t]))[j, 0]
 
-            res = minimize_scalar(
-                neg, bounds=(phi[i] - h, phi[i] + h), method="bounded", options={"xatol": 1e-11}
-            )
+            a, b = phi[i] - h, phi[i] + h
+            if not periodic:
+                a, b = max(a, lo), min(b, hi)
+            res = minimize_scalar(neg, bounds=(a, b), method="bounded", options={"xatol": 1e-11})
             angle, value = (float(res.x), -float(res.fun)) if -res.fun >= qj[i] else (phi[i], qj[i])
-            candidates.append((float(np.mod(angle, 2.0 * np.pi)), float(value)))
+            if periodic:
+                angle = float(np.mod(angle - lo, hi - lo) + lo)
+            candidates.append((float(angle), float(value)))
     best = max(candidates, key=lambda c: c[1])
     return best[1], best[0], candidates
 

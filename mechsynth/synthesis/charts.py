@@ -38,9 +38,9 @@ from typing import Any
 import numpy as np
 
 from ..errors import MechanismError
+from ..kinematics.mechanism import input_grid
 from ..objectives.base import Measure
 from ..options import Option, chart_options
-from ..units import cycle
 
 __all__ = ["Chart", "sweep", "slider_crank_chart", "chart_slider_crank"]
 
@@ -524,7 +524,11 @@ def sweep(
             raise ValueError(f"grid axis {name!r} must hold finite values")
         axes[str(name)] = a
     fixed = dict(fixed or {})
-    phi = cycle(int(angles)) if np.ndim(angles) == 0 else np.asarray(angles, dtype=float).ravel()
+    phi = (
+        input_grid(mechanism, int(angles))
+        if np.ndim(angles) == 0
+        else np.asarray(angles, dtype=float).ravel()
+    )
     bound = {}
     for label, m in measures.items():
         if isinstance(m, Measure):

@@ -38,6 +38,15 @@ A ``[ground]`` table of points and a ``[[group]]`` table per group, in solving o
     guide = { through = ["120 mm", 0], angle = "57 deg" }   # through: [x, y], a ground point
                                         # or a link; optional offset. Optional: branch, link, slider
 
+The driver may instead be a driving slider (a linear input)::
+
+    [[group]]
+    type = "slider"
+    point = "A"
+    guide = { through = [0, 0], angle = "0 deg" }   # a fixed guide (optional offset)
+    travel = ["0 mm", "100 mm"]                     # the input displacements of a cycle
+                                                    # optional: link (the block's name)
+
 Further group types: ``rpr`` (``link``, ``about``, ``through``; optional ``offset``, ``branch``,
 ``block``) and ``follower`` (``point``, ``on``, ``guide``, ``profile = {type = "circle",
 radius, center}`` or ``{type = "involute", base_radius, center, phase, roll}``; ``roller`` or
@@ -77,6 +86,7 @@ _GROUP_KEYS = {
         {"point", "on", "profile", "guide"},
         {"roller", "face", "branch", "side", "slider"},
     ),
+    "slider": ({"point", "guide", "travel"}, {"link"}),
 }
 _PROFILE_KEYS = {
     "circle": ({"radius"}, {"center"}),
@@ -220,6 +230,19 @@ def _group(lk: Linkage, g: dict, where: str) -> Linkage:
             **opt("phase", _dim),
             **name("link"),
         )
+    if kind == "slider":
+        guide, offset = _guide(g["guide"], f"{where}: guide")
+        tr = g["travel"]
+        if not isinstance(tr, list) or len(tr) != 2:
+            raise LinkageFileError(f"{where}: travel: expected [low, high], got {tr!r}")
+        travel = tuple(parse_quantity(t, f"{where}: travel") for t in tr)
+        return lk.slider(
+            _point(g["point"], f"{where}: point"),
+            guide=guide,
+            travel=travel,
+            offset=offset,
+            **name("link"),
+        )
     if kind == "rrr":
         links = {}
         if "links" in g:
@@ -303,7 +326,8 @@ def linkage_from_data(data: dict, where: str = "") -> Linkage:
     groups = data.get("group")
     if not isinstance(groups, list) or not groups or not all(isinstance(g, dict) for g in groups):
         raise LinkageFileError(
-            f"{pre}[[group]]: give the crank and the groups as [[group]] tables, in solving order"
+            f"{pre}[[group]]: give the driver (crank or slider) and the groups as [[group]] "
+            "tables, in solving order"
         )
     try:
         lk = Linkage(ground=points, name=str(meta.get("name", "linkage")))
@@ -553,7 +577,8 @@ def chart_linkage(out, options):
     summary = (
         f"{lk.name} chart: {n} x {n} designs over {xn} {xlo / scale[xn]:g}..{xhi / scale[xn]:g} "
         f"{unit[xn]} and {yn} {ylo / scale[yn]:g}..{yhi / scale[yn]:g} {unit[yn]}, {angles} "
-        f"crank angles, {int(result.feasible.sum())} feasible, {result.elapsed:.2f} s.\n"
+        f"{'crank angles' if lk.periodic else 'inputs over the travel'}, "
+        f"{int(result.feasible.sum())} feasible, {result.elapsed:.2f} s.\n"
     )
     if pick is None:
         summary += f"No feasible grid design satisfies {where_text}."

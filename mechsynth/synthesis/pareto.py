@@ -42,7 +42,7 @@ __all__ = ["ParetoFront", "pareto_front", "true_value", "chart_pareto_slider_cra
 def true_value(problem, measure: Measure, design, n_dense: int = 2048) -> float:
     """Value of ``measure`` at ``design`` with every peak taken over the continuous crank angle
     (dense evaluation + 1-D search, as the solvers certify), at the problem's speed."""
-    from ..units import cycle
+    from ..kinematics.mechanism import input_grid
     from .certify import true_peak
     from .transcription import evaluate_form, flatten
 
@@ -51,7 +51,7 @@ def true_value(problem, measure: Measure, design, n_dense: int = 2048) -> float:
     for _, atom in form.terms:
         if atom.kind == "peak":
             peaks[atom] = true_peak(atom, design, problem.speed, n_dense)[0]
-    motion = design.motion(cycle(n_dense), speed=problem.speed)
+    motion = design.motion(input_grid(design, n_dense), speed=problem.speed)
     return float(evaluate_form(form, design, motion, peaks))
 
 

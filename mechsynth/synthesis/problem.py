@@ -20,9 +20,9 @@ from collections.abc import Iterable, Mapping
 
 import numpy as np
 
+from ..kinematics.mechanism import input_grid
 from ..objectives.base import Constraint, Measure
 from ..objectives.kinematic import assembly_margin
-from ..units import cycle
 
 __all__ = ["Problem"]
 
@@ -63,7 +63,9 @@ class Problem:
         measured; None measures crank-angle analogs (m/rad, m/rad^2).
     angles : the base crank-angle grid of the gradient solvers: a count of equal steps over one
         turn (default 64) or an array of angles (rad). Peaks are certified on the continuous
-        angle regardless (grid refinement).
+        angle regardless (grid refinement). For a linkage driven by a slider the grid covers its
+        travel (both ends) and angles are its displacements (m); ``speed`` is then the
+        slider's speed (m/s).
     feasibility_margin : relative margin of the mechanism's ``feasibility_constraints`` (full
         turn of the crank, assembly), which are added automatically.
     tol : relative constraint tolerance for success: ``violation <= tol * max(1, |bound|)``.
@@ -130,7 +132,7 @@ class Problem:
             n = int(angles)
             if n < 8:
                 raise ValueError(f"angles: need at least 8 grid angles, got {n}")
-            self.base_angles = cycle(n)
+            self.base_angles = input_grid(mechanism, n)
         else:
             a = np.asarray(angles, dtype=float).ravel()
             if a.size < 8 or not np.all(np.isfinite(a)):
@@ -236,7 +238,7 @@ class Problem:
         evaluated on ``n`` equal crank-angle steps (no certification)."""
         if isinstance(design, Mapping):
             design = self.design(**design)
-        motion = design.motion(cycle(n), speed=self.speed)
+        motion = design.motion(input_grid(design, n), speed=self.speed)
         out = {}
         if self.objective is not None:
             out[self.objective.name] = float(self.objective.from_motion(design, motion))

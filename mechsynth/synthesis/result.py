@@ -273,12 +273,21 @@ class Result:
             f"status: {self.status} ({'success' if self.success else 'FAILED'}) - {self.message}",
             f"{self.sense}imize {self.objective} = {num(self.value, self.objective_unit)}",
         ]
-        speed = (
-            "analogs (crank speed 1 rad/s)"
-            if self.speed is None
-            else (f"{self.speed:.6g} rad/s ({self.speed * 60 / (2 * np.pi):.6g} rpm)")
-        )
-        lines.append(f"crank speed: {speed}")
+        linear = _linear_input(design)
+        if linear:
+            speed = (
+                "analogs (per m of the driving slider's travel)"
+                if self.speed is None
+                else f"{display.fmt(self.speed, 'm/s')}"
+            )
+            lines.append(f"driving slider speed: {speed}")
+        else:
+            speed = (
+                "analogs (crank speed 1 rad/s)"
+                if self.speed is None
+                else (f"{self.speed:.6g} rad/s ({self.speed * 60 / (2 * np.pi):.6g} rpm)")
+            )
+            lines.append(f"crank speed: {speed}")
         lines.append(f"design ({du.name} units):")
         edges = self.on_bounds()
         if self.design is not None:
@@ -315,15 +324,20 @@ class Result:
             f"optima, spread {c.spread:.3g}; {c.best_hits} start(s) reached the reported one"
         )
         for p in c.peaks:
-            at = display.angle_position(p.angle)
-            shown = f"{at:.4f} deg" if du.angle == "deg" else f"{at:.6f} rad"
+            if linear:
+                where = f"input s = {display.fmt(p.angle, 'm', 6)}"
+            else:
+                at = display.angle_position(p.angle)
+                shown = f"{at:.4f} deg" if du.angle == "deg" else f"{at:.6f} rad"
+                where = f"crank angle {shown}"
             unit = self.units.get(p.name, "")
             lines.append(
                 f"  peak {p.name}: grid {num(p.grid_value, unit, 12)}, true "
-                f"{num(p.true_value, unit, 12)} at crank angle {shown} (gap {p.gap:.2g})"
+                f"{num(p.true_value, unit, 12)} at {where} (gap {p.gap:.2g})"
             )
         lines.append(
-            f"  {c.refinement_rounds} refinement round(s); {c.grid_angles} grid angles; "
+            f"  {c.refinement_rounds} refinement round(s); {c.grid_angles} "
+            f"grid {'inputs' if linear else 'angles'}; "
             f"certified: {c.certified} (rtol {c.rtol:g})"
         )
         if c.cross_check:
@@ -349,28 +363,34 @@ class Result:
 
         if self.design is None:
             raise ValueError(f"no valid design to plot (status {self.status})")
-        from ..units import cycle
+        from ..kinematics.mechanism import input_grid
 
-        phi = cycle(n)
+        linear = _linear_input(self.design)
+        phi = input_grid(self.design, n)
         m = self.design.motion(phi, speed=self.speed)
-        deg = np.rad2deg(phi)
+        deg = display.convert(phi, "m")[0] if linear else np.rad2deg(phi)
         analog = self.speed is None
+        per = "m" if linear else "rad"  # analogs are per unit of the input
         if output is None:
             output = "slider" if m.sliders else ("rocker" if "rocker" in m.links else "B")
         if output in m.links:
             tr = m.links[output]
             series = (np.unwrap(np.asarray(tr.angle, dtype=float)), tr.omega, tr.epsilon)
-            units = ("rad", "rad/rad" if analog else "rad/s", "rad/rad^2" if analog else "rad/s^2")
+            units = (
+                "rad",
+                f"rad/{per}" if analog else "rad/s",
+                f"rad/{per}^2" if analog else "rad/s^2",
+            )
             labels = (f"{output} angle", f"{output} angular velocity", f"{output} ang. acc.")
         elif output == "slider" or output in m.sliders:
             tr = m.slider if output == "slider" else m.sliders[output]
             series = (tr.position, tr.velocity, tr.acceleration)
-            units = ("m", "m/rad" if analog else "m/s", "m/rad^2" if analog else "m/s^2")
+            units = ("m", f"m/{per}" if analog else "m/s", f"m/{per}^2" if analog else "m/s^2")
             labels = ("slider position", "slider velocity", "slider acceleration")
         else:
             tr = m.points[output]
             series = (tr.x, tr.velocity, tr.acceleration)
-            units = ("m", "m/rad" if analog else "m/s", "m/rad^2" if analog else "m/s^2")
+            units = ("m", f"m/{per}" if analog else "m/s", f"m/{per}^2" if analog else "m/s^2")
             labels = (f"{output} x", f"speed |v| of {output}", f"acceleration |a| of {output}")
         with style():
             fig, axes = plt.subplots(4, 1, sharex=True, figsize=(7.5, 9), layout="constrained")
@@ -382,9 +402,17 @@ class Result:
             axes[3].plot(deg, pa, lw=1.5, color="#D55E00")
             axes[3].set_ylabel(f"pressure angle, {shown}")
             for p in self.certification.peaks:
+                at = (
+                    display.convert(p.angle, "m")[0]
+                    if linear
+                    else display.angle_position(p.angle, "deg")
+                )
                 for ax in axes:
-                    ax.axvline(display.angle_position(p.angle, "deg"), color="0.5", lw=0.8, ls="--")
-            crank_axis(axes[-1])
+                    ax.axvline(at, color="0.5", lw=0.8, ls="--")
+            if linear:
+                axes[-1].set_xlabel(display.label("input displacement s", "m"))
+            else:
+                crank_axis(axes[-1])
             value = (
                 display.fmt(self.value, self.objective_unit, 6)
                 if np.isfinite(self.value)
@@ -399,8 +427,19 @@ class Result:
                 )
                 described = f"{_name(self.design)}: {varied}"
             fig.align_ylabels(axes)
+            if linear:
+                speed = "" if self.speed is None else display.fmt(self.speed, "m/s", 4)
+                top = make_title(described, f"input speed {speed}" if speed else "")
+            else:
+                top = make_title(described, "", self.speed)
+            marks = "inputs" if linear else "angles"
             axes[0].set_title(
-                make_title(described, "", self.speed) + f"\n{head} (dashed: certified peak angles)",
+                top + f"\n{head} (dashed: certified peak {marks})",
                 fontsize=9,
             )
         return fig
+
+
+def _linear_input(design) -> bool:
+    """True for a design driven by a slider (its input is a displacement, not an angle)."""
+    return design is not None and getattr(design, "periodic", True) is False

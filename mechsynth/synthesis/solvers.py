@@ -330,8 +330,14 @@ class _Certifier:
         return checks, new, true_q
 
     def _add(self, angles):
+        from ..kinematics.mechanism import input_domain
+
+        periodic = input_domain(self.problem.mechanism)[2]
         for a in angles:
-            if all(abs(np.angle(np.exp(1j * (a - b)))) > 1e-12 for b in self.extra):
+            if all(
+                abs(np.angle(np.exp(1j * (a - b))) if periodic else a - b) > 1e-12
+                for b in self.extra
+            ):
                 self.extra.append(a)
         if len(self.extra) > self.tr.n_extra:
             n = int(2 ** np.ceil(np.log2(len(self.extra))))
@@ -371,9 +377,9 @@ class _Certifier:
 def _final(problem, tr, mech, true_q, n_dense=2048):
     """Objective and constraint values at ``mech`` with true peaks (a uniform grid of
     ``n_dense`` angles for averages and numpy-only measures)."""
-    from ..units import cycle
+    from ..kinematics.mechanism import input_grid
 
-    motion = mech.motion(cycle(n_dense), speed=problem.speed)
+    motion = mech.motion(input_grid(mech, n_dense), speed=problem.speed)
     peaks = {}
     for form in [tr.objective, *tr.constraints]:
         for _, atom in form.terms:
@@ -645,11 +651,11 @@ class _BatchEvaluator:
     """Objective and constraint rows of a whole population in one numpy call."""
 
     def __init__(self, problem, n_angles, eq_rtol):
-        from ..units import cycle
+        from ..kinematics.mechanism import input_grid
 
         self.problem = problem
         self.tr = problem._numeric()
-        self.phi = cycle(n_angles)
+        self.phi = input_grid(problem.mechanism, n_angles)
         self.eq_rtol = eq_rtol
         hook = getattr(problem.mechanism, "feasibility_constraints", None)
         n_hook = 0
