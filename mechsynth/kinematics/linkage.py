@@ -1,4 +1,4 @@
-"""General planar linkages: ground points, one driving crank and groups added in solving order.
+"""General planar linkages: ground points, one driver and groups added in solving order.
 
 A :class:`Linkage` is written the way an engineer sketches one: fix the ground points, add the
 crank, then each group in the order it can be solved, naming the points it joins::
@@ -21,7 +21,9 @@ numpy analysis, CasADi gradients, optimization (:class:`~mechsynth.synthesis.Pro
 Conventions (see ``docs/linkages.md``)
 --------------------------------------
 * SI units; angles in rad from +x, counter-clockwise; the crank angle ``phi`` drives (analogs are
-  derivatives with respect to it); the crank's link angle is ``phi + phase``.
+  derivatives with respect to it); the crank's link angle is ``phi + phase``. A linkage driven
+  by a slider (:meth:`Linkage.slider`) takes the slider's displacement ``s`` (m) as its input
+  instead: analogs per metre, speeds in m/s, a cycle over its ``travel``.
 * ``branch=+1`` of an RRR group puts its point to the left of the directed line first -> second
   point; of an RRP group, the slider ahead of the foot of the rod's start along the guide
   direction; of an RPR group, the block on the positive axis of the link; of a follower, the
@@ -181,7 +183,8 @@ class Topology:
 
 
 class Linkage(Drawable):
-    """A planar linkage: ground points, a driving crank and groups in solving order.
+    """A planar linkage: ground points, a driver (a crank or a driving slider) and groups in
+    solving order.
 
     Parameters
     ----------
