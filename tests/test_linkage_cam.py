@@ -13,7 +13,7 @@ from mechsynth.kinematics import Circle, Involute, ParametricCurve, ops
 PHI = ms.cycle(360)
 
 
-def eccentric_cam(e, R, delta, roller=None, face=None, phase=0.0):
+def eccentric_cam(e, R, delta, roller=None, face=None, phase=0.0, branch=1, side=1):
     """A circular cam of radius R whose centre is e from the crank pivot O, turning with the
     crank; a translating follower on the vertical guide x = delta."""
     lk = ms.Linkage(ground={"O": (0, 0)}).crank("A", about="O", length=e, phase=phase)
@@ -24,7 +24,28 @@ def eccentric_cam(e, R, delta, roller=None, face=None, phase=0.0):
         guide=((delta, 0.0), np.pi / 2),
         roller=roller,
         face=face,
+        branch=branch,
+        side=side,
     )
+
+
+@pytest.mark.parametrize("branch", [1, -1])
+@pytest.mark.parametrize("side", [1, -1])
+def test_every_follower_variant_equals_its_closed_form(branch, side):
+    """Branch -1 rests on the hindmost contact along the guide, side -1 runs the roller inside
+    the circle: y = e sin t + branch sqrt((R + side rho)^2 - (delta - e cos t)^2); a flat face
+    on branch -1 touches the bottom: y = e sin t - R."""
+    e, R, rho, phase = 0.01, 0.05, 0.008, 0.3
+    delta = 0.3 * (R - rho - e)
+    t = PHI + phase
+    u = delta - e * np.cos(t)
+    y = e * np.sin(t) + branch * np.sqrt((R + side * rho) ** 2 - u * u)
+    m = eccentric_cam(e, R, delta, roller=rho, phase=phase, branch=branch, side=side).motion(PHI)
+    np.testing.assert_allclose(m.sliders["N"].position, y, rtol=0, atol=1e-12)
+    c = m.points["N_contact"]
+    np.testing.assert_allclose(np.hypot(c.x - e * np.cos(t), c.y - e * np.sin(t)), R, atol=1e-13)
+    flat = eccentric_cam(e, R, delta, face=0.0, phase=phase, branch=branch).motion(PHI)
+    np.testing.assert_allclose(flat.sliders["N"].position, e * np.sin(t) + branch * R, atol=1e-13)
 
 
 @settings(max_examples=40, deadline=None)

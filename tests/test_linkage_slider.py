@@ -392,3 +392,40 @@ def test_slider_driver_errors_are_clear():
     assert lk.with_travel(0.01, 0.02).input_range == (0.01, 0.02)
     with pytest.raises(ValueError, match="no travel"):
         ms.Linkage(ground={"O": (0, 0)}).crank("A", "O", 0.1).with_travel(0, 1)
+
+
+def test_optimize_and_chart_a_slider_driven_linkage_from_files(tmp_path, capsys):
+    """``mechsynth optimize`` on examples/optimize_cylinder_rocker.toml, and ``mechsynth chart
+    linkage`` on the same linkage: values agree with the Python model."""
+    import json
+    from pathlib import Path
+
+    from mechsynth.cli import main
+
+    example = Path(__file__).resolve().parents[1] / "examples" / "optimize_cylinder_rocker.toml"
+    rc = main(["optimize", str(example), "--out", str(tmp_path), "--json"])
+    data = json.loads(capsys.readouterr().out)
+    assert rc == 0 and data["status"] == "optimal"
+    v = data["variables"]
+    best = cylinder_rocker()(**v).motion(cylinder_rocker().input_grid(4001), speed=0.2)
+    assert abs(np.abs(best.links["DB"].omega).max() - data["value"]) < 1e-6
+    assert abs(np.ptp(np.unwrap(best.links["DB"].angle)) - ms.deg(60)) < 1e-6
+    assert (tmp_path / "optimum.png").stat().st_size > 10_000
+    text = example.read_text()
+    linkage = text[text.index("[linkage]") :]
+    chart = (
+        linkage
+        + '\n[chart]\nx = ["AB", "150 mm", "300 mm"]\ny = ["DB", "80 mm", "140 mm"]\n'
+        + 'measures = ["swing_angle(DB)"]\nangles = 101\n'
+    )
+    (tmp_path / "c.toml").write_text(chart)
+    rc = main(
+        ["chart", "linkage", "--set", f"file={tmp_path / 'c.toml'}", "--set", "n=5", "--json"]
+    )
+    out = json.loads(capsys.readouterr().out)
+    assert rc == 0 and out["feasible"] > 0
+    pick = out["best_on_grid"]
+    design = cylinder_rocker()(AB=pick["params"]["AB"], DB=pick["params"]["DB"])
+    th = design.motion(design.input_grid(101)).links["DB"].angle
+    swing = np.ptp(np.angle(np.exp(1j * (th - th[0]))))
+    assert pick["values"]["swing_angle(DB)"] == pytest.approx(swing, rel=1e-12)

@@ -371,6 +371,8 @@ class Result:
         deg = display.convert(phi, "m")[0] if linear else np.rad2deg(phi)
         analog = self.speed is None
         per = "m" if linear else "rad"  # analogs are per unit of the input
+        if output is None and linear:  # the driving slider is the input: show the output
+            output = self.design._stroke_output()
         if output is None:
             output = "slider" if m.sliders else ("rocker" if "rocker" in m.links else "B")
         if output in m.links:
@@ -429,7 +431,7 @@ class Result:
             fig.align_ylabels(axes)
             if linear:
                 speed = "" if self.speed is None else display.fmt(self.speed, "m/s", 4)
-                top = make_title(described, f"input speed {speed}" if speed else "")
+                top = make_title(described, f"input speed {speed}" if speed else "", None, False)
             else:
                 top = make_title(described, "", self.speed)
             marks = "inputs" if linear else "angles"
