@@ -82,7 +82,7 @@ def test_slider_crank_kernel_matches_numpy_model():
 
 @needs_numba
 def test_kernel_atan2_agrees_with_numpy():
-    atan2 = compiled._kernels()[2]
+    atan2 = compiled._kernels()["atan2"]
     rng = np.random.default_rng(3)
     y = rng.normal(size=2000) * 10.0 ** rng.integers(-8, 8, 2000)
     x = rng.normal(size=2000) * 10.0 ** rng.integers(-8, 8, 2000)
@@ -205,3 +205,51 @@ def test_cache_stamp_follows_the_code():
     # same code in another function object: the stamp is of the code, not of the object
     f_again.__code__ = f.__code__
     assert compiled._stamp([f]) == compiled._stamp([f_again])
+
+
+@needs_numba
+def test_serial_and_threaded_kernels_agree(monkeypatch):
+    a, b, c, d = _full_turn_designs(50, 7)
+    serial = four_bar_batch(a, b, c, d, PHI)  # small: one thread
+    monkeypatch.setattr(compiled, "PARALLEL_MIN", 0)
+    threaded = four_bar_batch(a, b, c, d, PHI)
+    np.testing.assert_array_equal(serial.rocker_epsilon, threaded.rocker_epsilon)
+    np.testing.assert_array_equal(serial.coupler_angle, threaded.coupler_angle)
+    s1 = slider_crank_batch(0.07, 0.24 + 0.01 * a, 0.01, PHI)
+    s2 = slider_crank_batch(0.07, 0.24 + 0.01 * a, 0.01, PHI)
+    np.testing.assert_array_equal(s1.acceleration, s2.acceleration)
+
+
+@needs_numba
+def test_grid_cache_follows_edited_angles():
+    phi = PHI.copy()
+    first = slider_crank_batch(0.07, 0.24, 0.0, phi).position.copy()
+    phi += 0.3  # edited in place: the remembered cos/sin must not be reused
+    again = slider_crank_batch(0.07, 0.24, 0.0, phi).position
+    ref = SliderCrank(0.07, 0.24, 0.0).motion(phi).slider.position
+    np.testing.assert_allclose(again[0], ref, rtol=0, atol=1e-13)
+    assert not np.allclose(first, again)
+
+
+def test_batch_validation_names_the_condition_per_design():
+    with pytest.raises(MechanismError, match=r"design index \(1,\)"):
+        slider_crank_batch([0.07, 0.3], 0.24, 0.0, PHI)
+    with pytest.raises(ValueError, match="coupler must be positive"):
+        four_bar_batch(1.0, [4.3, -1.0], 3.0, 5.2, PHI)
+    with pytest.raises(ValueError, match="offset must be finite"):
+        slider_crank_batch(0.07, 0.24, [0.0, np.nan], PHI)
+    with pytest.raises(ValueError, match="do not broadcast"):
+        four_bar_batch([1.0, 1.1], [4.3, 4.4, 4.5], 3.0, 5.2, PHI)
+
+
+def test_compilation_is_announced_once_in_one_line(capsys):
+    import time
+
+    with compiled.announce_compilation("a test kernel", after=0.05):
+        time.sleep(0.3)
+    with compiled.announce_compilation("a test kernel", after=0.05):
+        time.sleep(0.3)
+    with compiled.announce_compilation("a quick kernel", after=5.0):
+        pass
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "compiling a test kernel" in err

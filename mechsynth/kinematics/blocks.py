@@ -17,6 +17,7 @@ crank angle. Symbolic input is not checked (the optimizer's constraints keep it 
 from __future__ import annotations
 
 import functools
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -82,6 +83,8 @@ def _check_nonnegative(value, scale, what, phi=None):
     if ops.is_symbolic(value):
         return value
     value = np.asarray(value, dtype=float)
+    if value.min(initial=np.inf) >= 0.0:  # assembles everywhere (nan fails this and is checked)
+        return value
     bad = value < -_ASSEMBLY_RTOL * np.maximum(np.asarray(scale, dtype=float), 1e-300)
     if np.any(bad):
         idx = np.unravel_index(int(np.argmax(bad)), bad.shape)
@@ -102,6 +105,11 @@ def _check_toggle(what, phi, *analogs):
     links in line), where the velocity analogs are infinite or 0/0. Checked only for numeric
     input with the crank angles given."""
     if phi is None or ops.is_symbolic(phi, *analogs):
+        return
+    total = 0.0
+    for x in analogs:
+        total += np.add.reduce(x, axis=None)
+    if math.isfinite(total):  # every analog finite (an inf or nan propagates into the sum)
         return
     bad = ~np.isfinite(analogs[0])
     for x in analogs[1:]:

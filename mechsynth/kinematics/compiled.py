@@ -19,14 +19,17 @@ Backends
     are compiled from their own code with ``ops`` rebound to the scalar
     :mod:`~mechsynth.kinematics.scalar_ops`. There is no second copy of the formulas; the tests
     check the kernels against the numpy model to 1e-12 on random designs. The crank angles'
-    sines and cosines are computed once for the whole batch. The number of threads is numba's
+    sines and cosines are computed once for the whole batch (and remembered for the last grid).
+    Batches of fewer than :data:`PARALLEL_MIN` designs x angles run on the calling thread
+    (waking the thread pool costs more than it gains on them); larger ones on numba's threads
     (``numba.set_num_threads``). The compiled code is cached on disk, keyed on the model's
-    bytecode, so an edited model is recompiled (a few seconds, once).
+    bytecode, so an edited model is recompiled (about 15 s, once; announced in one line).
 ``"auto"`` (default)
     ``"numba"`` when numba can be imported, else ``"numpy"``.
 
-Both backends validate the designs exactly like the mechanism classes (they construct one
-:class:`FourBar` / :class:`SliderCrank` with the parameter arrays) and raise the same
+Both backends validate the designs exactly like the mechanism classes, in a few vectorized
+passes over the designs (O(designs), not designs x angles); when a check fails they construct
+the :class:`FourBar` / :class:`SliderCrank` with the parameter arrays, which raises the same
 ``ValueError`` / ``MechanismError``. Designs that come within round-off of a toggle position or
 of losing assembly on the angle grid (possible only with ``full_turn=False``, or with a rod
 within 1e-9 of ``crank + |offset|``) are not left to the kernels: the numpy model computes them
@@ -43,9 +46,12 @@ Examples
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import marshal
 import math
+import sys
+import threading
 import types
 from dataclasses import dataclass
 from functools import cache
@@ -61,6 +67,8 @@ __all__ = [
     "four_bar_batch",
     "slider_crank_batch",
     "numba_available",
+    "announce_compilation",
+    "PARALLEL_MIN",
 ]
 
 _BACKENDS = ("auto", "numpy", "numba")
@@ -132,12 +140,51 @@ def _designs(phi, **params):
     phi = np.asarray(phi, dtype=float)
     if phi.ndim != 1:
         raise ValueError(f"phi must be a 1-D array of crank angles, got shape {phi.shape}")
+    values = params.values()
+    if all(type(v) is float or type(v) is int for v in values):  # one design: no broadcasting
+        return phi, {k: np.array([v], dtype=float) for k, v in params.items()}
     arrays = {k: np.asarray(v, dtype=float) for k, v in params.items()}
+    n = 1
     for k, v in arrays.items():
         if v.ndim > 1:
             raise ValueError(f"{k} must be a scalar or a 1-D array of designs, got shape {v.shape}")
-    shape = np.broadcast_shapes(*(v.shape for v in arrays.values()), (1,))
-    return phi, {k: np.ascontiguousarray(np.broadcast_to(v, shape)) for k, v in arrays.items()}
+        if v.ndim == 1 and v.size != 1:
+            if n != 1 and v.size != n:
+                sizes = {k: x.shape for k, x in arrays.items()}
+                raise ValueError(f"the parameter arrays do not broadcast together: {sizes}")
+            n = v.size
+    return phi, {
+        k: np.ascontiguousarray(v) if v.size == n and v.ndim == 1 else np.full(n, v.item())
+        for k, v in arrays.items()
+    }
+
+
+def _cos_sin(phi):
+    """``cos(phi), sin(phi)``, remembered for the last grid (sweeps and repeated calls reuse
+    one grid; the grid is compared by value, so an edited array is not mistaken for it)."""
+    last = _GRID[0]
+    if last is not None and last[0].shape == phi.shape and np.array_equal(last[0], phi):
+        return last[1], last[2]
+    c, s = np.cos(phi), np.sin(phi)
+    _GRID[0] = (phi.copy(), c, s)
+    return c, s
+
+
+_GRID: list = [None]
+
+
+def _valid_lengths(*lengths) -> bool:
+    """True when every entry of the ``(n,)`` arrays is finite and positive: one pass over the
+    designs (O(n)); the mechanism class is built (for its exact message) only when not."""
+    if len(lengths[0]) == 1:
+        return all(math.isfinite(x[0]) and x[0] > 0.0 for x in lengths)
+    return all(bool(np.all(x > 0.0)) and bool(np.all(x < np.inf)) for x in lengths)
+
+
+# Designs x angles below which a batch runs on one thread: waking numba's thread pool costs
+# more than it gains on small batches (measured in benchmarks/bench_small_calls.py: on a
+# shared two-core machine threads did not gain up to 10,000 designs x 360 angles).
+PARALLEL_MIN = 1 << 22
 
 
 def _speed(speed):
@@ -182,7 +229,8 @@ def four_bar_batch(
     """
     backend = _backend(backend)
     phi, p = _designs(phi, crank=crank, coupler=coupler, rocker=rocker, ground=ground)
-    fb = FourBar(**p, branch=branch, full_turn=full_turn)  # validation, with its messages
+    _check_four_bars(p, branch, full_turn)
+    sigma = 1.0 if branch == "open" else -1.0
 
     def model(rows):
         part = FourBar(
@@ -195,9 +243,9 @@ def four_bar_batch(
     if backend == "numpy":
         _numpy_chunks(model, out)
     else:
-        cphi, sphi = np.cos(phi), np.sin(phi)
+        cphi, sphi = _cos_sin(phi)
         a, b, c, d = p["crank"], p["coupler"], p["rocker"], p["ground"]
-        _kernels()[0](a, b, c, d, cphi, sphi, float(fb.sigma), out)
+        _kernel("four_bar", a.size * phi.size)(a, b, c, d, cphi, sphi, sigma, out)
         # |AO2|^2 over the grid lies between its values at the largest and smallest cos(phi);
         # designs whose |AO2| comes near |coupler - rocker| or coupler + rocker (toggle, or no
         # assembly) are recomputed by the numpy model, which raises for them if it must.
@@ -230,7 +278,7 @@ def slider_crank_batch(
     """
     backend = _backend(backend)
     phi, p = _designs(phi, crank=crank, rod=rod, offset=offset)
-    SliderCrank(**p)  # validation, with its messages
+    _check_slider_cranks(p)
 
     def model(rows):
         _, _, s, rod_jet = SliderCrank(**{k: v[rows, None] for k, v in p.items()}).jets(phi)
@@ -241,10 +289,33 @@ def slider_crank_batch(
         _numpy_chunks(model, out)
     else:
         a, b, e = p["crank"], p["rod"], p["offset"]
-        _kernels()[1](a, b, e, np.cos(phi), np.sin(phi), out)
+        cphi, sphi = _cos_sin(phi)
+        _kernel("slider_crank", a.size * phi.size)(a, b, e, cphi, sphi, out)
         # rods within round-off of crank + |offset| (near a toggle) go to the numpy model
         _numpy_rows(model, np.flatnonzero(b * b - (a + np.abs(e)) ** 2 <= 1e-9 * b * b), out)
     return _scaled(SliderCrankBatch, out, speed, backend)
+
+
+def _check_four_bars(p, branch, full_turn):
+    """The checks of :class:`FourBar` over the ``(n,)`` parameter arrays in a few vectorized
+    passes; the class itself is built (it raises with its message) only if one fails."""
+    a, b, c, d = p["crank"], p["coupler"], p["rocker"], p["ground"]
+    ok = branch in ("open", "crossed") and _valid_lengths(a, b, c, d)
+    if ok and full_turn:
+        ok = bool(np.all(a + d < b + c)) and bool(np.all(np.abs(d - a) > np.abs(b - c)))
+    elif ok:
+        longest = np.maximum(np.maximum(a, b), np.maximum(c, d))
+        ok = bool(np.all(2 * longest < a + b + c + d))
+    if not ok:
+        FourBar(**p, branch=branch, full_turn=full_turn)  # raises, naming the condition
+
+
+def _check_slider_cranks(p):
+    """The checks of :class:`SliderCrank` over the ``(n,)`` arrays (as :func:`_check_four_bars`)."""
+    a, b, e = p["crank"], p["rod"], p["offset"]
+    ok = _valid_lengths(a, b) and bool(np.all(np.abs(e) < np.inf))
+    if not (ok and bool(np.all(b > a + np.abs(e)))):
+        SliderCrank(**p)  # raises, naming the condition
 
 
 def _output(out, n, m):
@@ -389,4 +460,68 @@ def _kernels():
             _SC_ROW(a[i], b[i], e[i], cphi, sphi, out, i)
         return stamp
 
-    return four_bar_kernel, slider_crank_kernel, scalar_ops.arctan2
+    # the same loops on the calling thread, for batches too small to gain from threads
+    @jit_cached
+    def four_bar_serial(a, b, c, d, cphi, sphi, sigma, out):
+        for i in range(a.shape[0]):
+            _FB_ROW(a[i], b[i], c[i], d[i], cphi, sphi, sigma, out, i)
+        return stamp
+
+    @jit_cached
+    def slider_crank_serial(a, b, e, cphi, sphi, out):
+        for i in range(a.shape[0]):
+            _SC_ROW(a[i], b[i], e[i], cphi, sphi, out, i)
+        return stamp
+
+    kernels = {
+        ("four_bar", False): four_bar_serial,
+        ("four_bar", True): four_bar_kernel,
+        ("slider_crank", False): slider_crank_serial,
+        ("slider_crank", True): slider_crank_kernel,
+        "atan2": scalar_ops.arctan2,
+    }
+    # compile (or load from the disk cache) now, on one design at one angle: a compilation
+    # (seconds, once per model version) is announced in one line; a cache load is silent
+    one, grid, buf = np.ones(1), np.ones(1), np.empty((6, 1, 1))
+    with announce_compilation("the four-bar and slider-crank batch kernels"):
+        for key, kern in kernels.items():
+            if key == "atan2":
+                continue
+            if key[0] == "four_bar":
+                kern(one, 4 * one, 3 * one, 5 * one, grid, 0 * grid, 1.0, buf)
+            else:
+                kern(one, 3 * one, 0 * one, grid, 0 * grid, buf)
+    return kernels
+
+
+def _kernel(kind: str, evaluations: int):
+    """The compiled kernel of ``kind`` for a batch of ``evaluations`` designs x angles: on
+    numba's threads when the batch is large enough to gain (:data:`PARALLEL_MIN`), else serial."""
+    return _kernels()[kind, evaluations >= PARALLEL_MIN]
+
+
+@contextlib.contextmanager
+def announce_compilation(what: str, after: float = 3.0):
+    """Print one line to stderr if the block takes longer than ``after`` seconds (a numba
+    compilation rather than a load from its disk cache); at most once per process and ``what``."""
+    if what in _ANNOUNCED:
+        yield
+        return
+    _ANNOUNCED.add(what)
+    timer = threading.Timer(
+        after,
+        lambda: print(
+            f"mechsynth: compiling {what} (once; cached on disk for later runs) ...",
+            file=sys.stderr,
+            flush=True,
+        ),
+    )
+    timer.daemon = True
+    timer.start()
+    try:
+        yield
+    finally:
+        timer.cancel()
+
+
+_ANNOUNCED: set[str] = set()

@@ -9,6 +9,7 @@ optimizer). Numeric parameters are validated on construction; symbolic ones are 
 from __future__ import annotations
 
 import dataclasses
+import math
 from typing import Any, ClassVar
 
 import numpy as np
@@ -59,6 +60,8 @@ def _first_bad(arr, bad):
 
 def check_finite(name: str, value):
     """Return ``value`` (float or float array) or raise ValueError if any entry is not finite."""
+    if type(value) is float and math.isfinite(value):  # the common case, without numpy
+        return value
     if ops.is_symbolic(value):
         return value
     try:
@@ -75,6 +78,8 @@ def check_finite(name: str, value):
 def check_length(name: str, value):
     """Return ``value`` or raise ValueError if any entry is not finite and strictly positive."""
     value = check_finite(name, value)
+    if type(value) is float and value > 0.0:
+        return value
     if ops.is_symbolic(value):
         return value
     arr = np.asarray(value)
@@ -116,6 +121,8 @@ def fail_where(condition, template: str, **values):
     ``template`` is formatted with ``values`` taken at the first failing design (as ``.6g``) and
     ``{at}``, which names that design's index in a batch (empty for a single design).
     """
+    if condition is False or type(condition) is np.bool_ and not condition:
+        return  # one numeric design that passes
     if ops.is_symbolic(condition, *values.values()):
         return
     cond = np.asarray(condition)

@@ -26,9 +26,17 @@ __all__ = [
 ]
 
 
+#: types that are never symbolic (checked first: the numpy path is the hot one)
+_NUMERIC = frozenset({np.ndarray, float, int, bool, np.float64, np.bool_, np.int64})
+
+
 def is_symbolic(*values) -> bool:
     """True if any value is a CasADi SX/MX/DM object."""
-    return any(type(v).__module__.startswith("casadi") for v in values)
+    for v in values:
+        t = type(v)
+        if t not in _NUMERIC and t.__module__.startswith("casadi"):
+            return True
+    return False
 
 
 def _ca():
@@ -38,34 +46,50 @@ def _ca():
 
 
 def sin(x):
+    if type(x) in _NUMERIC:
+        return np.sin(x)
     return _ca().sin(x) if is_symbolic(x) else np.sin(x)
 
 
 def cos(x):
+    if type(x) in _NUMERIC:
+        return np.cos(x)
     return _ca().cos(x) if is_symbolic(x) else np.cos(x)
 
 
 def tan(x):
+    if type(x) in _NUMERIC:
+        return np.tan(x)
     return _ca().tan(x) if is_symbolic(x) else np.tan(x)
 
 
 def sqrt(x):
+    if type(x) in _NUMERIC:
+        return np.sqrt(x)
     return _ca().sqrt(x) if is_symbolic(x) else np.sqrt(x)
 
 
 def arctan2(y, x):
+    if type(y) in _NUMERIC and type(x) in _NUMERIC:
+        return np.arctan2(y, x)
     return _ca().atan2(y, x) if is_symbolic(y, x) else np.arctan2(y, x)
 
 
 def arcsin(x):
+    if type(x) in _NUMERIC:
+        return np.arcsin(x)
     return _ca().asin(x) if is_symbolic(x) else np.arcsin(x)
 
 
 def arccos(x):
+    if type(x) in _NUMERIC:
+        return np.arccos(x)
     return _ca().acos(x) if is_symbolic(x) else np.arccos(x)
 
 
 def fabs(x):
+    if type(x) in _NUMERIC:
+        return np.abs(x)
     return _ca().fabs(x) if is_symbolic(x) else np.abs(x)
 
 

@@ -49,6 +49,10 @@ class PointJet(NamedTuple):
 
 def to_time(jet: Jet, omega, epsilon):
     """(value, velocity, acceleration) in time from a crank-angle jet."""
+    if type(epsilon) is float and epsilon == 0.0 and type(omega) is float:
+        if omega == 1.0:  # the analogs themselves
+            return jet.value, jet.d1, jet.d2
+        return jet.value, jet.d1 * omega, jet.d2 * (omega * omega)
     return jet.value, jet.d1 * omega, jet.d2 * omega**2 + jet.d1 * epsilon
 
 
@@ -84,6 +88,11 @@ class PointTrack:
 
     @classmethod
     def from_jet(cls, p: PointJet, omega, epsilon) -> PointTrack:
+        if type(epsilon) is float and epsilon == 0.0 and type(omega) is float:
+            if omega == 1.0:  # the analogs themselves
+                return cls(*p)
+            w2 = omega * omega
+            return cls(p.x, p.y, p.dx * omega, p.dy * omega, p.ddx * w2, p.ddy * w2)
         return cls(
             p.x,
             p.y,
