@@ -87,3 +87,20 @@ def test_findings_reported():
     assert len(f["dead_centres_deg"]) == 2
     for j in ("A", "B", "D"):
         assert f["peaks"][j]["from_dead_centre_deg"] < 30.0
+
+
+@pytest.mark.parametrize("rho", [57.0, 90.0, 123.0])
+def test_closed_form_six_link_forces_against_the_general_kinetostatics(rho):
+    from mechsynth.machines.impact.design import representative_machine
+    from mechsynth.machines.impact.forces import six_link_forces
+
+    m = representative_machine("six", rho, psi=0.3, gamma=0.1)
+    w = ms.rpm(2000) * (1 + 0.05 * np.sin(PHI))
+    f = cycle_forces(m, PHI, w, 300.0)
+    c = six_link_forces(m.linkage, f.motion, m.inertias, tilt=m.tilt)
+    scale = max(np.max(f.result.magnitude(j)) for j in ("O", "A", "B", "D", "K", "N"))
+    for j in ("O", "A", "B", "D", "K", "N"):
+        assert np.max(np.abs(np.hypot(*c[j]) - f.result.magnitude(j))) < 1e-12 * scale
+    assert np.allclose(np.abs(c["guide"]), np.abs(f.guide), atol=1e-12 * scale)
+    assert np.allclose(c["housing"][0], f.housing[0], atol=1e-12 * scale)
+    assert np.allclose(c["housing"][1], f.housing[1], atol=1e-12 * scale)

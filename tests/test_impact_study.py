@@ -29,7 +29,7 @@ def result(tmp_path_factory):
 
     Figure.savefig = savefig
     try:
-        res = run_study("impact", out=out, angles=180, startup_s=0.3)
+        res = run_study("impact", out=out, angles=180, startup_s=0.3, synthesis=False)
     finally:
         Figure.savefig = original
     return res, found

@@ -90,8 +90,15 @@ STAGES = (
         exclusive=True,
         maximum=10.0,
     ),
-    Option("synthesis", False, "run the synthesis and the Pareto front"),
-    Option("pareto_points", 5, "points of the Pareto front", minimum=2, maximum=40),
+    Option("synthesis", True, "run the synthesis and the Pareto front"),
+    Option(
+        "pareto_points",
+        0,
+        "points of the Pareto front of blow energy against transverse housing force "
+        "(0: skip; each point is a certified solve, minutes in all)",
+        minimum=0,
+        maximum=40,
+    ),
     owner="study 'impact'",
 )
 def run(
@@ -114,6 +121,8 @@ def run(
     stages = STAGES if synthesis else tuple(s for s in STAGES if not s.startswith("synthesis"))
     if out is None:
         stages = stages[:-1]
+    if int(pareto_points) == 1:
+        raise ValueError("study 'impact': option pareto_points must be 0 (skip) or at least 2")
     o = dict(
         angles=int(angles),
         rho_deg=tuple(float(r) for r in rho_deg),
@@ -160,6 +169,7 @@ def _six_entry(m, phi, w):
     mo = lk.motion(phi, speed=w)
     m0 = lk.motion(np.array([0.0]))
     f = cycle_forces(m, phi, w)
+    mu = np.asarray(mo.transmission_angles["B"])
     rho = float(p["N_guide_angle"])
     h_o = float(p["N_guide_offset"])
     guide_point = [-h_o * np.sin(rho), h_o * np.cos(rho)]  # foot of O's perpendicular
@@ -188,7 +198,7 @@ def _six_entry(m, phi, w):
             "peak_acceleration": float(np.max(np.abs(mo.sliders["N"].acceleration))),
             "peak_guide_force": float(np.max(np.abs(f.guide))),
             "max_pressure_angle_deg": float(np.degrees(np.max(mo.pressure_angles["N"]))),
-            "min_transmission_angle_B_deg": float(np.degrees(np.min(mo.transmission_angles["B"]))),
+            "min_transmission_angle_B_deg": float(np.degrees(np.min(np.minimum(mu, np.pi - mu)))),
         },
         mo,
         f,
@@ -282,7 +292,9 @@ def _run(out, o, stages):
         stages.next(STAGES[4])
         from ..machines.impact.synthesis import pareto_front, synthesize
 
-        synth = {"optimum": synthesize(head), "pareto": pareto_front(head, o["pareto_points"])}
+        synth = {"optimum": synthesize(head), "pareto": None}
+        if o["pareto_points"] >= 2:
+            synth["pareto"] = pareto_front(head, o["pareto_points"])
 
     files = []
     if out is not None:
@@ -537,7 +549,7 @@ def _write(out, o, phi, w, six, motions, six_forces, machines, cyc, ivp, su, syn
         )
         save(fig, "impact_speed.png")
 
-        if synth is not None:
+        if synth is not None and synth["pareto"] is not None:
             from ..machines.impact.synthesis import pareto_figure
 
             fig = pareto_figure(synth)

@@ -250,6 +250,7 @@ def pareto_front(
     progress: bool | None = None,
     solve_options: dict | None = None,
     lexicographic_rtol: float = 1e-7,
+    anchor_x0: dict | None = None,
 ) -> ParetoFront:
     """Pareto front of ``first`` against ``second`` by the epsilon-constraint method.
 
@@ -271,6 +272,8 @@ def pareto_front(
         extent of the front, so they get the wider search).
     progress : a tqdm bar over the points (None: only on a terminal).
     lexicographic_rtol : relative slack of ``second`` at its optimum in the second anchor.
+    anchor_x0 : optional start design ``{variable: value}`` of the two anchors (their first
+        start; the other starts are Sobol points), e.g. a known good design.
 
     Returns
     -------
@@ -312,14 +315,14 @@ def pareto_front(
     results, eps_list, vals = [], [], []  # per point, anchors first and last
     bar = progress_bar(total=n, desc="Pareto front", enabled=progress, unit="point")
     # anchor 1: first alone
-    p1, r1 = solve(first, senses[0], n_starts=anchor_starts)
+    p1, r1 = solve(first, senses[0], x0=anchor_x0, n_starts=anchor_starts)
     results.append(r1)
     vals.append(measured(p1, r1))
     eps_list.append(vals[-1][1])
     bar.update()
     if r1.success:
         # anchor 2: second alone, then first at that optimum
-        _, r2s = solve(second, senses[1], n_starts=anchor_starts)
+        _, r2s = solve(second, senses[1], x0=anchor_x0, n_starts=anchor_starts)
         if r2s.success:
             s_best = float(r2s.value)
             slack = lexicographic_rtol * max(abs(s_best), 1e-12)

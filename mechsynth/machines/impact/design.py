@@ -51,11 +51,11 @@ def inertias_for(linkage, masses=None) -> dict:
     or :func:`~.model.crank_rocker` (whose rocker carries the striker's mass at K)."""
     m = dict(MASSES if masses is None else masses)
     p = linkage.parameters
-    out = {"OA": m["crank"], "AB": _bar(m["rod"], float(p["AB"]))}
+    out = {"OA": m["crank"], "AB": _bar(m["rod"], p["AB"])}
     bodies = linkage.topology().bodies
     if "KN" in bodies:
         out["DB"] = m["rocker"]
-        out["KN"] = _bar(m["extra_rod"], float(p["KN"]))
+        out["KN"] = _bar(m["extra_rod"], p["KN"])
         out["N"] = (m["striker"], (0.0, 0.0), 0.0)
     elif "N" in bodies:
         out["DB"] = m["profile_rocker"]
@@ -63,7 +63,7 @@ def inertias_for(linkage, masses=None) -> dict:
     else:
         mr, (cu, cv), jr = m["rocker"]
         ms_ = m["striker"]
-        ku, kv = float(p["K_along"]), float(p["K_left"])
+        ku, kv = p["K_along"], p["K_left"]
         total = mr + ms_
         cx, cy = (mr * cu + ms_ * ku) / total, (mr * cv + ms_ * kv) / total
         j = jr + mr * ((cu - cx) ** 2 + (cv - cy) ** 2) + ms_ * ((ku - cx) ** 2 + (kv - cy) ** 2)

@@ -1,0 +1,358 @@
+"""Synthesis of the six-link impact mechanism: the dimensions that maximize the energy of the
+blow at a required blow rate and striker stroke, with transmission-angle, joint-force and motor
+limits; and the Pareto front of the blow's energy against the peak load across the tool axis on
+the housing.
+
+The measures are written with the package's ``ops`` so that the same code gives numbers and
+CasADi expressions (certified :class:`~mechsynth.synthesis.Problem`):
+
+* :func:`blow_energy` -- the energy a blow at crank angle ``phi`` would give the tool,
+  ``E(phi) = m_t (1 + e)^2 v^2 J^2 / (2 (J + m_t u^2)^2)`` (``v = u omega`` the striker's speed,
+  ``J`` the reduced inertia with the drive's, Newton's law of :mod:`.impact` written without the
+  effective mass ``J / u^2``, which is singular at the dead centres); its peak over the cycle is
+  the blow with the anvil placed where it is largest;
+* :func:`blow_work` -- the kinetic energy the machine loses in that blow (what the motor must
+  give back every turn): ``J omega^2 (1 - ((J - e m_t u^2) / (J + m_t u^2))^2) / 2``;
+* :func:`peak_transverse_force` -- the mechanism's load on the housing across the guide.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from ...dynamics.inertia import kinetic_energy
+from ...kinematics import ops
+from ...objectives import kinematic as ob
+from ...objectives.base import CycleMeasure
+from ...units import deg
+from .design import MASSES, inertias_for
+from .forces import six_link_forces
+
+__all__ = [
+    "VARIABLES",
+    "blow_energy",
+    "blow_work",
+    "peak_transverse_force",
+    "peak_joint_force",
+    "impact_problem",
+    "synthesize",
+    "pareto_front",
+    "summary_lines",
+    "pareto_figure",
+]
+
+#: the design variables and their ranges (m, rad)
+VARIABLES = {
+    "OA": (0.006, 0.016),
+    "AB": (0.045, 0.080),
+    "DB": (0.025, 0.050),
+    "K_along": (-0.070, 0.0),
+    "K_left": (-0.070, 0.0),
+    "KN": (0.040, 0.110),
+    "N_guide_angle": (deg(60.0), deg(120.0)),
+    "N_guide_offset": (-0.160, -0.110),
+}
+
+
+def _bodies(mech, masses, drive_inertia):
+    model = mech.force_model(inertias_for(mech, masses))
+    return list(model.bodies.values()), model
+
+
+def _j_and_u(mech, motion, masses, drive_inertia, striker="N"):
+    bodies, _ = _bodies(mech, masses, drive_inertia)
+    w = motion.omega
+    j = 2.0 * kinetic_energy(motion, bodies) / (w * w) + drive_inertia
+    v = motion.sliders[striker].velocity
+    return j, v / w, v
+
+
+def blow_energy(tool_mass, restitution, drive_inertia, masses=None) -> CycleMeasure:
+    """Energy (J) a blow at each crank angle would give the tool; ``reduce="max"``."""
+    masses = MASSES if masses is None else masses
+    mt, e = float(tool_mass), float(restitution)
+
+    def per_angle(mech, motion):
+        j, u, v = _j_and_u(mech, motion, masses, drive_inertia)
+        d = j + mt * u * u
+        return 0.5 * mt * (1.0 + e) ** 2 * v * v * j * j / (d * d)
+
+    return CycleMeasure("blow energy", per_angle, "max", "J")
+
+
+def blow_work(tool_mass, restitution, drive_inertia, masses=None) -> CycleMeasure:
+    """Kinetic energy (J) the machine loses in a blow at each crank angle; ``reduce="max"``."""
+    masses = MASSES if masses is None else masses
+    mt, e = float(tool_mass), float(restitution)
+
+    def per_angle(mech, motion):
+        j, u, _ = _j_and_u(mech, motion, masses, drive_inertia)
+        w = motion.omega
+        k = (j - e * mt * u * u) / (j + mt * u * u)
+        return 0.5 * j * w * w * (1.0 - k * k)
+
+    return CycleMeasure("energy per blow from the machine", per_angle, "max", "J")
+
+
+def _transverse(mech, motion, masses, tilt):
+    f = six_link_forces(mech, motion, inertias_for(mech, masses), tilt)
+    rho = mech.parameters["N_guide_angle"]
+    hx, hy = f["housing"]
+    return -hx * ops.sin(rho) + hy * ops.cos(rho)
+
+
+def peak_joint_force(masses=None, tilt=0.0, joints=("O", "A", "B", "D", "K", "N")):
+    """Peak magnitude (N) of the joint forces over the cycle (closed-form kinetostatics of the
+    six-link, :func:`~.forces.six_link_forces`); smooth branches: the squared magnitudes."""
+    masses = MASSES if masses is None else masses
+
+    def squares(mech, motion):
+        f = six_link_forces(mech, motion, inertias_for(mech, masses), tilt)
+        return tuple(f[j][0] * f[j][0] + f[j][1] * f[j][1] for j in joints)
+
+    def per_angle(mech, motion):
+        sq = squares(mech, motion)
+        out = sq[0]
+        for x in sq[1:]:
+            out = ops.fmax(out, x)
+        return ops.sqrt(out)
+
+    return CycleMeasure(
+        f"peak joint force {'/'.join(joints)}", per_angle, "max", "N", squares, outer="sqrt"
+    )
+
+
+def peak_transverse_force(masses=None, tilt=0.0) -> CycleMeasure:
+    """Peak magnitude (N) of the mechanism's load on the housing across the striker's guide."""
+    masses = MASSES if masses is None else masses
+
+    def per_angle(mech, motion):
+        return ops.fabs(_transverse(mech, motion, masses, tilt))
+
+    def branches(mech, motion):
+        t = _transverse(mech, motion, masses, tilt)
+        return (t, -t)
+
+    return CycleMeasure("peak transverse housing force", per_angle, "max", "N", branches)
+
+
+def impact_problem(
+    machine,
+    *,
+    stroke=0.040,
+    min_transmission_deg=40.0,
+    max_joint_force=9000.0,
+    motor_power=None,
+    angles=48,
+    variables=None,
+):
+    """The certified problem over the six-link ``machine``'s dimensions (:data:`VARIABLES`):
+    maximize :func:`blow_energy` at the machine's speed (blows per minute), subject to the
+    striker's stroke, transmission angles at B and at the striker (``>=
+    min_transmission_deg``), the peak joint force at O, A, B, D, K, N (``<= max_joint_force``
+    N) and the motor: the energy a blow takes from the machine at most the motor's rated power
+    times the time of a turn (``motor_power`` W; default the assumed motor's)."""
+    from ...synthesis.problem import Problem
+    from .drive import MOTOR_ASSUMPTION
+
+    masses = dict(MASSES)
+    masses.update({"striker": float(machine.inertias["N"][0])})
+    jd = machine.drive_inertia()
+    tool = machine.tool
+    p_motor = MOTOR_ASSUMPTION["rated_power_W"] if motor_power is None else float(motor_power)
+    prob = Problem(
+        machine.linkage,
+        variables=dict(VARIABLES if variables is None else variables),
+        speed=machine.omega,
+        angles=angles,
+    )
+    prob.maximize(blow_energy(tool.mass, tool.restitution, jd, masses))
+    prob.subject_to(
+        ob.stroke("N") == stroke,
+        ob.min_transmission_angle("B") >= deg(min_transmission_deg),
+        ob.max_pressure_angle("N") <= deg(90.0 - min_transmission_deg),
+        peak_joint_force(masses, machine.tilt) <= max_joint_force,
+        blow_work(tool.mass, tool.restitution, jd, masses) <= p_motor * 60.0 / machine.speed_rpm,
+    )
+    return prob, masses
+
+
+def synthesize(machine, starts=3, x0=None, **options) -> dict:
+    """Solve :func:`impact_problem` (IPOPT, ``starts`` multi-starts, certified); returns a dict:
+    the status, the optimum's variables and blow energy, the representative design's values,
+    the certification and the checks of the optimum on the exact model (the blow by
+    :mod:`.impact` with the anvil where the energy peaks, stroke, angles, peak forces).
+    ``x0``: an optional first start ``{variable: value}`` (the others are Sobol points)."""
+    prob, masses = impact_problem(machine, **options)
+    t = time.perf_counter()
+    res = prob.solve(starts=starts, progress=False, x0=x0)
+    start = prob.evaluate(machine.linkage)
+    out = {
+        "status": res.status,
+        "success": bool(res.success),
+        "blow_energy_J": float(res.value) if res.success else None,
+        "variables": {k: float(v) for k, v in (res.variables or {}).items()},
+        "solve_time_s": time.perf_counter() - t,
+        "certification": res.report().split("certification", 1)[-1].splitlines()[0].strip(" :()"),
+        "limits": {
+            "stroke_m": options.get("stroke", 0.040),
+            "min_transmission_deg": options.get("min_transmission_deg", 40.0),
+            "max_joint_force_N": options.get("max_joint_force", 9000.0),
+            "speed_rpm": machine.speed_rpm,
+        },
+        "representative": {
+            "blow_energy_J": float(start["blow energy"]),
+            "variables": {k: float(machine.linkage.parameters[k]) for k in VARIABLES},
+        },
+        "report": res.report(),
+    }
+    if res.success:
+        out["check"] = _check(machine, res.design, masses)
+    return out
+
+
+def pareto_front(machine, n=5, starts=1, anchor_starts=3, anchor_x0=None, **options) -> dict:
+    """The Pareto front of the blow energy (maximized) against the peak load across the tool
+    axis on the housing (minimized), over :func:`impact_problem`'s feasible set, by the package's
+    epsilon-constraint sweep (:func:`mechsynth.synthesis.pareto.pareto_front`): every point a
+    certified solve. Returns ``front.to_dict()`` plus the solve time."""
+    from ...synthesis.pareto import pareto_front as sweep
+
+    prob, masses = impact_problem(machine, **options)
+    t = time.perf_counter()
+    front = sweep(
+        prob,
+        blow_energy(machine.tool.mass, machine.tool.restitution, machine.drive_inertia(), masses),
+        peak_transverse_force(masses, machine.tilt),
+        n=int(n),
+        senses=("max", "min"),
+        starts=int(starts),
+        anchor_starts=int(anchor_starts),
+        progress=False,
+        anchor_x0=anchor_x0,
+    )
+    d = front.to_dict()
+    d["solve_time_s"] = time.perf_counter() - t
+    d["n_success"] = int(np.sum(front.success))
+    d["n_nondominated"] = int(np.sum(front.nondominated))
+    return d
+
+
+def summary_lines(synth: dict) -> list[str]:
+    """The synthesis and the front in a few lines of the study's summary."""
+    o = synth["optimum"]
+    lim = o["limits"]
+    lines = [
+        f" synthesis (certified IPOPT, 8 dimensions): maximize the blow energy at "
+        f"{lim['speed_rpm']:g} blows/min, stroke {lim['stroke_m'] * 1e3:g} mm, transmission "
+        f">= {lim['min_transmission_deg']:g} deg, joint forces <= {lim['max_joint_force_N']:g} N, "
+        f"the motor's rated power: {o['status']} in {o['solve_time_s']:.1f} s"
+    ]
+    if o["success"]:
+        c = o["check"]
+        lines.append(
+            f"   {o['representative']['blow_energy_J']:.2f} J (representative) -> "
+            f"{o['blow_energy_J']:.2f} J; checked by the blow model: "
+            f"{c['energy_delivered_J']:.2f} J at {c['impact_velocity']:.3f} m/s, stroke "
+            f"{c['stroke'] * 1e3:.3f} mm, transmission "
+            f"{c['min_transmission_B_deg']:.2f} deg, peak joint force "
+            f"{c['peak_joint_force_N']:.0f} "
+            f"N, transverse {c['transverse_peak_N']:.0f} N"
+        )
+        lines.append(
+            "   "
+            + ", ".join(
+                f"{k} {v * 1e3:.2f} mm" if "angle" not in k else f"{k} {np.degrees(v):.2f} deg"
+                for k, v in o["variables"].items()
+            )
+        )
+    p = synth.get("pareto")
+    if p is not None:
+        pts = [q for q in p["points"] if q["success"]]
+        lines.append(
+            f" Pareto front (blow energy against the peak transverse housing force): "
+            f"{p['n_success']} of {len(p['points'])} points solved, {p['n_nondominated']} "
+            f"non-dominated, {p['solve_time_s']:.1f} s"
+        )
+        for q in sorted(pts, key=lambda q: q["second"]):
+            lines.append(f"   transverse {q['second']:8.1f} N  ->  blow {q['first']:.2f} J")
+    return lines
+
+
+def pareto_figure(synth: dict):
+    """The front: blow energy against the peak transverse housing force, the representative
+    design and the synthesis optimum marked."""
+    import matplotlib.pyplot as plt
+
+    from ...plotting import PALETTE
+
+    p = synth["pareto"]
+    o = synth["optimum"]
+    fig, ax = plt.subplots(figsize=(8, 5))
+    pts = [q for q in p["points"] if q["success"]]
+    nd = sorted([q for q in pts if q["nondominated"]], key=lambda q: q["second"])
+    ax.plot(
+        [q["second"] for q in nd],
+        [q["first"] for q in nd],
+        "-o",
+        color=PALETTE[4],
+        ms=5,
+        label="non-dominated designs (certified)",
+    )
+    dom = [q for q in pts if not q["nondominated"]]
+    if dom:
+        ax.plot(
+            [q["second"] for q in dom],
+            [q["first"] for q in dom],
+            "o",
+            mfc="none",
+            color="0.5",
+            label="dominated",
+        )
+    if o["success"]:
+        ax.plot(
+            [o["check"]["transverse_peak_N"]],
+            [o["blow_energy_J"]],
+            "s",
+            ms=9,
+            mfc="none",
+            color=PALETTE[5],
+            label="energy optimum (no transverse limit)",
+        )
+    ax.set_xlabel("peak load across the tool axis on the housing, N")
+    ax.set_ylabel("blow energy, J")
+    ax.margins(0.1)
+    ax.set_title("six-link: blow energy against the transverse housing load", fontsize=10)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    return fig
+
+
+def _check(machine, design, masses):
+    from .forces import force_findings
+
+    phi = np.linspace(0.0, 2 * np.pi, 2048, endpoint=False)
+    m = machine.replace(
+        linkage=design, inertias=inertias_for(design, masses), anvil=None, sense=None
+    )
+    mo = design.motion(phi, speed=machine.omega)
+    mu = np.asarray(mo.transmission_angles["B"])
+    e = blow_energy(machine.tool.mass, machine.tool.restitution, machine.drive_inertia(), masses)
+    k = int(np.argmax(e.samples(design, mo)))
+    from .impact import striker_track
+
+    s, u, _, _ = striker_track(design, "N", phi[k])
+    m = m.replace(anvil=float(s), sense=1 if float(u) > 0 else -1)
+    b = m.blow()
+    f = force_findings(m, n=720)
+    return {
+        "blow_angle_deg": float(np.degrees(phi[k])),
+        "energy_delivered_J": b.energy_delivered,
+        "impact_velocity": b.striker_before,
+        "stroke": float(np.ptp(mo.sliders["N"].position)),
+        "min_transmission_B_deg": float(np.degrees(np.min(np.minimum(mu, np.pi - mu)))),
+        "max_pressure_N_deg": float(np.degrees(np.max(mo.pressure_angles["N"]))),
+        "peak_joint_force_N": max(p["max_N"] for p in f["peaks"].values()),
+        "transverse_peak_N": f["transverse_peak_N"],
+    }

@@ -1,0 +1,75 @@
+"""Synthesis of the six-link impact mechanism: the measures (numbers and CasADi from one code)
+and the certified optimum."""
+
+import casadi as ca
+import numpy as np
+import pytest
+
+import mechsynth as ms
+from mechsynth.machines.impact.design import MASSES, representative_machine
+from mechsynth.machines.impact.impact import striker_track
+from mechsynth.machines.impact.synthesis import (
+    blow_energy,
+    blow_work,
+    impact_problem,
+    peak_joint_force,
+    synthesize,
+)
+
+PHI = np.linspace(0.0, 2 * np.pi, 73)
+
+
+def test_blow_energy_matches_the_blow_model():
+    m = representative_machine("six")
+    phi_b = m.blow_angle()
+    mo = m.linkage.motion(np.array([phi_b]), speed=m.omega)
+    e = blow_energy(m.tool.mass, m.tool.restitution, m.drive_inertia()).samples(m.linkage, mo)
+    w = blow_work(m.tool.mass, m.tool.restitution, m.drive_inertia()).samples(m.linkage, mo)
+    b = m.blow()
+    assert float(e[0]) == pytest.approx(b.energy_delivered, rel=1e-12)
+    assert float(w[0]) == pytest.approx(b.energy_delivered + b.energy_lost, rel=1e-12)
+    _, u, _, _ = striker_track(m.linkage, "N", phi_b)
+    assert abs(float(u)) > 0
+
+
+def test_measures_are_casadi_expressions_with_exact_gradients():
+    m = representative_machine("six")
+    x = ca.SX.sym("KN")
+    lk = m.linkage.with_parameters(KN=x)
+    mo = lk.motion(np.array([0.3, 2.0]), speed=m.omega)
+    f = peak_joint_force(MASSES).samples(lk, mo)
+    fun = ca.Function("f", [x], [ca.jacobian(f, x), f])
+    kn = float(m.linkage.parameters["KN"])
+    jac, val = fun(kn)
+    num = m.linkage.with_parameters(KN=kn).motion(np.array([0.3, 2.0]), speed=m.omega)
+    v0 = peak_joint_force(MASSES).samples(m.linkage, num)
+    assert np.allclose(np.asarray(val).ravel(), np.asarray(v0).ravel(), rtol=1e-12)
+    h = 1e-7
+    up = m.linkage.with_parameters(KN=kn + h).motion(np.array([0.3, 2.0]), speed=m.omega)
+    dn = m.linkage.with_parameters(KN=kn - h).motion(np.array([0.3, 2.0]), speed=m.omega)
+    fd = (
+        np.asarray(peak_joint_force(MASSES).samples(m.linkage.with_parameters(KN=kn + h), up))
+        - np.asarray(peak_joint_force(MASSES).samples(m.linkage.with_parameters(KN=kn - h), dn))
+    ) / (2 * h)
+    assert np.allclose(np.asarray(jac).ravel(), np.ravel(fd), rtol=1e-5, atol=1e-3)
+
+
+def test_problem_evaluates_the_representative_design():
+    m = representative_machine("six")
+    prob, _ = impact_problem(m)
+    v = prob.evaluate(m.linkage)
+    assert 15 < v["blow energy"] < 25 and v["peak joint force O/A/B/D/K/N"] < 9000
+
+
+@pytest.mark.slow
+def test_certified_synthesis():
+    m = representative_machine("six")
+    out = synthesize(m, starts=3)
+    assert out["success"] and out["status"] == "optimal"
+    c = out["check"]
+    assert out["blow_energy_J"] > out["representative"]["blow_energy_J"]
+    assert c["energy_delivered_J"] == pytest.approx(out["blow_energy_J"], rel=1e-6)
+    assert abs(c["stroke"] - 0.040) < 1e-7
+    assert c["min_transmission_B_deg"] >= 40 - 1e-6 and c["max_pressure_N_deg"] <= 50 + 1e-6
+    assert c["peak_joint_force_N"] <= 9000 * (1 + 1e-6)
+    assert ms.to_rpm(m.omega) == pytest.approx(2000.0)
