@@ -73,3 +73,18 @@ def test_certified_synthesis():
     assert c["min_transmission_B_deg"] >= 40 - 1e-6 and c["max_pressure_N_deg"] <= 50 + 1e-6
     assert c["peak_joint_force_N"] <= 9000 * (1 + 1e-6)
     assert ms.to_rpm(m.omega) == pytest.approx(2000.0)
+
+
+@pytest.mark.slow
+def test_pareto_front_of_blow_energy_against_transverse_load():
+    from mechsynth.machines.impact.synthesis import pareto_figure, pareto_front
+    from mechsynth.plotting import layout_problems
+
+    m = representative_machine("six")
+    front = pareto_front(m, n=2, anchor_starts=3)
+    ok = [p for p in front["points"] if p["success"]]
+    assert len(ok) == 2
+    lo, hi = sorted(ok, key=lambda p: p["second"])
+    assert lo["second"] < hi["second"] and lo["first"] <= hi["first"] * (1 + 1e-6)
+    opt = {"success": False}
+    assert layout_problems(pareto_figure({"pareto": front, "optimum": opt})) == []

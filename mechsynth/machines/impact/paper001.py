@@ -437,6 +437,18 @@ ERRATA = [
     "not the striker's force on the rocker as the text says; (21) is exact as printed. (22)-(28) "
     "(the rocker's joint forces) refer to figures missing from the text and are not checked "
     "term by term: the joint forces come from the general kinetostatics, power-balanced.",
+    "(14): the work of the position-dependent moments enters with the wrong sign: from (13) with "
+    "trapezoidal works, J_i w_i^2/dphi - J_0 w_0^2/dphi - M_w0 - 2 A_phi/dphi = M_wi (printed "
+    "+2 A_phi/dphi).",
+    "(16): Kloss's denominator must be s_k^2 + (1 - w/w_c,red)^2 (the square of the slip is "
+    "missing). (17)-(18): the quartic's coefficients are garbled -- e.g. its w^4 term is "
+    "J_i / (2 w_c,red^2), not J_i / w_c,red; the correct quartic is derived in docs/dynamics.md "
+    "(quartic_coefficients) and has exactly one positive real root at every step of the "
+    "study's steady state, as the paper says.",
+    "Force findings: the joint forces peak about 16 deg before a dead centre (where the rocker's "
+    "acceleration peaks), near but not at the alignment of the links; the rocker-striker force "
+    "is 0.36-0.43 of the four-bar's joint forces with a 3 kg striker -- smaller, not 'many "
+    "times' smaller.",
     "Findings at the special position (rho = 90: V_N = V_K; rho > 90: V_N < V_K; rho < 90: "
     "V_N > V_K): the first is exact for any rod (K moves along the guide there); the other two "
     "hold only for the striker behind K and a rod leaning by more than |90 deg - rho| / 2 from "

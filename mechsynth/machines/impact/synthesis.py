@@ -290,7 +290,7 @@ def pareto_figure(synth: dict):
 
     p = synth["pareto"]
     o = synth["optimum"]
-    fig, ax = plt.subplots(figsize=(8, 5))
+    fig, ax = plt.subplots(figsize=(8, 5), layout="constrained")
     pts = [q for q in p["points"] if q["success"]]
     nd = sorted([q for q in pts if q["nondominated"]], key=lambda q: q["second"])
     ax.plot(
@@ -319,7 +319,7 @@ def pareto_figure(synth: dict):
             ms=9,
             mfc="none",
             color=PALETTE[5],
-            label="energy optimum (no transverse limit)",
+            label="synthesis optimum (no transverse limit)",
         )
     ax.set_xlabel("peak load across the tool axis on the housing, N")
     ax.set_ylabel("blow energy, J")
