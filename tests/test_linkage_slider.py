@@ -429,3 +429,35 @@ def test_optimize_and_chart_a_slider_driven_linkage_from_files(tmp_path, capsys)
     th = design.motion(design.input_grid(101)).links["DB"].angle
     swing = np.ptp(np.angle(np.exp(1j * (th - th[0]))))
     assert pick["values"]["swing_angle(DB)"] == pytest.approx(swing, rel=1e-12)
+
+
+def test_certified_peak_driving_force():
+    """Place the rocker's pivot to minimize the cylinder's peak force against a load torque and
+    the links' inertia, numpy and CasADi through the same force model; against a scan."""
+    lk = cylinder_rocker()
+
+    def model(mech):
+        return mech.force_model(
+            {"A": (3.0, (0.0, 0.0), 0.0), "DB": (2.0, (0.05, 0.0), 3e-3)},
+            [Gravity(), Torque("DB", lambda m: -30.0 + 0 * m.phi)],
+        )
+
+    peak = ob.peak_driving_force(model)
+    prob = ms.Problem(lk, variables={"D_y": (0.05, 0.2)}, speed=0.5, angles=24)
+    prob.minimize(peak)
+    res = prob.solve(starts=2)
+    assert res.status == "optimal" and res.certification.certified
+    scan = [
+        peak.evaluate(lk(D_y=y), lk.input_grid(2001), speed=0.5) for y in np.linspace(0.05, 0.2, 61)
+    ]
+    assert res.value <= min(scan) * (1 + 1e-9)  # no scanned design does better
+    dense = peak.evaluate(res.design, lk.input_grid(20001), speed=0.5)
+    assert dense <= res.value * (1 + 1e-12) and dense >= res.value * (1 - 1e-6)
+    with pytest.raises(ValueError, match="balancing torque"):
+        ob.peak_driving_force(lambda m: m.force_model()).evaluate(
+            ms.Linkage(ground={"O": (0, 0), "D": (1, 0)})
+            .crank("A", "O", 0.2)
+            .rrr("B", ("A", 1.0), ("D", 0.8)),
+            ms.cycle(8),
+            speed=1.0,
+        )

@@ -1,7 +1,13 @@
 """Measures that reduce a mechanism's cycle to a number: objectives and constraints."""
 
 from .base import Combination, Constraint, CycleMeasure, Measure, ScalarMeasure, reduce_cycle
-from .forces import peak_reaction, peak_torque, reaction_affine_map, rms_torque
+from .forces import (
+    peak_driving_force,
+    peak_reaction,
+    peak_torque,
+    reaction_affine_map,
+    rms_torque,
+)
 from .kinematic import (
     KINEMATIC_MEASURES,
     assembly_margin,
@@ -32,4 +38,10 @@ __all__ += [
     "assembly_margin",
     "KINEMATIC_MEASURES",
 ]
-__all__ += ["peak_reaction", "peak_torque", "rms_torque", "reaction_affine_map"]
+__all__ += [
+    "peak_reaction",
+    "peak_torque",
+    "peak_driving_force",
+    "rms_torque",
+    "reaction_affine_map",
+]

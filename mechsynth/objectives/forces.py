@@ -19,7 +19,13 @@ from ..dynamics.kinetostatics import kinetostatics
 from ..kinematics import ops
 from .base import CycleMeasure
 
-__all__ = ["peak_reaction", "peak_torque", "rms_torque", "reaction_affine_map"]
+__all__ = [
+    "peak_reaction",
+    "peak_torque",
+    "peak_driving_force",
+    "rms_torque",
+    "reaction_affine_map",
+]
 
 
 def _model_of(model):
@@ -60,6 +66,18 @@ def peak_torque(model: Callable | None = None) -> CycleMeasure:
         "max",
         "N m",
     )
+
+
+def peak_driving_force(model: Callable | None = None) -> CycleMeasure:
+    """Peak absolute driving force (N) over the travel of a linkage driven by a slider (a
+    linear input, whose force model pushes its block along the guide)."""
+    build = _model_of(model)
+
+    def per_angle(mech, motion):
+        res = kinetostatics(build(mech), motion)
+        return ops.fabs(res.driving_force)
+
+    return CycleMeasure("peak driving force", per_angle, "max", "N")
 
 
 def rms_torque(model: Callable | None = None) -> CycleMeasure:
