@@ -395,7 +395,8 @@ def _animate_run(args) -> int:
         print(dumps(data))
     else:
         print(f"{design.describe()}")
-        print(f"{anim.n_frames} frames over one turn, {anim.playback}")
+        cycle = "one turn" if getattr(design, "periodic", True) else "the travel and back"
+        print(f"{anim.n_frames} frames over {cycle}, {anim.playback}")
         print("\nWritten:")
         for f in data["files"]:
             print(f"  {f}")

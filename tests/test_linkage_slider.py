@@ -461,3 +461,19 @@ def test_certified_peak_driving_force():
             ms.cycle(8),
             speed=1.0,
         )
+
+
+def test_animate_a_slider_driven_design_file(tmp_path, capsys):
+    from mechsynth.cli import main
+
+    text = (
+        'mechanism = "linkage"\nspeed = "0.2 m/s"\ntrace = ["B"]\n\n[ground]\nD = [0.2, 0.1]\n\n'
+        '[[group]]\ntype = "slider"\npoint = "A"\nguide = { through = [0, 0], angle = 0 }\n'
+        'travel = ["0 mm", "100 mm"]\n\n[[group]]\ntype = "rrr"\npoint = "B"\n'
+        'first = ["A", 0.2]\nsecond = ["D", 0.1]\n'
+    )
+    (tmp_path / "cyl.toml").write_text(text)
+    rc = main(["animate", str(tmp_path / "cyl.toml"), "--out", str(tmp_path), "--frames", "6"])
+    out = capsys.readouterr().out
+    assert rc == 0 and "6 frames over the travel and back" in out
+    assert (tmp_path / "cyl.gif").stat().st_size > 0 and (tmp_path / "cyl.png").stat().st_size > 0
