@@ -477,3 +477,26 @@ def test_animate_a_slider_driven_design_file(tmp_path, capsys):
     out = capsys.readouterr().out
     assert rc == 0 and "6 frames over the travel and back" in out
     assert (tmp_path / "cyl.gif").stat().st_size > 0 and (tmp_path / "cyl.png").stat().st_size > 0
+
+
+def test_symbolic_driving_force_equals_numpy():
+    """The force model with CasADi dimensions: the driving force and its derivative with respect
+    to a dimension equal the numpy model's (and its central difference)."""
+    lk = cylinder_rocker(angle=0.2)
+    inertias = {"A": (3.0, (0.0, 0.0), 0.0), "DB": (2.0, (0.05, 0.0), 3e-3)}
+    loads = [Gravity(), Torque("DB", lambda m: -30.0 + 0 * m.phi)]
+    s = np.linspace(0.0, 0.1, 9)
+    x = ca.SX.sym("x")
+    sym = lk(D_y=x)
+    res = kinetostatics(sym.force_model(inertias, loads), sym.motion(ca.DM(s), speed=0.5))
+    assert res.drive == "force"
+    fn = ca.Function("f", [x], [res.driving_force, ca.jacobian(res.driving_force, x)])
+    f_sym, df_sym = (np.asarray(v).ravel() for v in fn(0.1))
+
+    def num(y):
+        d = lk(D_y=y)
+        return kinetostatics(d.force_model(inertias, loads), d.motion(s, speed=0.5)).driving_force
+
+    np.testing.assert_allclose(f_sym, num(0.1), rtol=1e-12, atol=1e-10)
+    fd = (num(0.1 + 1e-6) - num(0.1 - 1e-6)) / 2e-6
+    np.testing.assert_allclose(df_sym, fd, rtol=1e-5, atol=1e-6 * np.abs(fd).max())
