@@ -170,7 +170,7 @@ class Topology:
     joints : every kinematic pair (:class:`~mechsynth.kinematics.linkage_groups.Joint`).
     guides : ``{slider: GuideLine}`` of the sliders on straight guides.
     profiles : ``{follower: Profile}`` of the cam profiles.
-    driver : the crank's body.
+    driver : the driver's body: the crank, or the block of a driving slider.
     """
 
     ground: dict
@@ -1302,7 +1302,8 @@ class Linkage(Drawable):
         :func:`mechsynth.dynamics.linkage_forces.linkage_force_model`): every moving body with
         its mass properties ``inertias[name]`` (a ``LinkInertia``, or ``(mass, (u, v),
         inertia)`` in the body's frame; massless when absent), every joint (named as
-        :meth:`joints`), the ``loads`` and the crank as the driver."""
+        :meth:`joints`), the ``loads`` and the crank as the driver (the balancing torque) --
+        or a driving slider's block, pushed along its guide by the driving force."""
         if _FORCES.builder is None:  # the forces layer registers it when imported
             from .. import load_registrations
 

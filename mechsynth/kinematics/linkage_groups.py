@@ -344,7 +344,8 @@ class SliderDriverGroup(Group):
 
     @property
     def label(self):
-        return f"driving slider {self.key} (block {self.link})"
+        lo, hi = self.travel
+        return f"driving slider {self.key} (block {self.link}, travel {lo:.6g} to {hi:.6g} m)"
 
     def requires(self):
         return (self.guide.through,) if self.guide.through else ()
