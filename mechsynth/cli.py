@@ -403,6 +403,67 @@ def _animate_run(args) -> int:
     return 0
 
 
+# ------------------------------------------------------------------------------- explore
+def _add_explore(sub) -> None:
+    p = sub.add_parser(
+        "explore",
+        help="interactive explorer in the browser (needs the extra mechsynth[explore])",
+        description="Start a local web page: choose a mechanism, drag its dimensions, watch it "
+        "move with its motion curves and the problem's constraints, optimize (certified, in "
+        "the background), sweep a chart and load a design from it, export the problem (TOML) "
+        "and figures (PNG). FILE is a problem, design or linkage file (TOML). Serves until "
+        "Ctrl+C. Needs Panel: pip install 'mechsynth[explore]'.",
+    )
+    p.add_argument("file", nargs="?", help="problem, design or linkage file (TOML) to start from")
+    p.add_argument(
+        "--mechanism",
+        choices=("slider-crank", "four-bar", "beam-pump", "dwell", "linkage", "impact"),
+        help="mechanism to start with when no FILE is given (default slider-crank)",
+    )
+    p.add_argument("--host", default="127.0.0.1", help="address to serve on (default 127.0.0.1)")
+    p.add_argument("--port", type=int, default=0, help="port (default 0: a free port)")
+    p.add_argument(
+        "--no-browser", action="store_true", help="do not open the page in the default browser"
+    )
+    p.add_argument("--out", metavar="DIR", help="also write exports (TOML, PNG) into DIR")
+    p.add_argument(
+        "--json",
+        action="store_true",
+        help='print {"url", "host", "port", "out"} as one JSON line once serving',
+    )
+    p.add_argument(
+        "--units",
+        choices=UNITS,
+        default="si",
+        help="display units the page starts with: si, mm-deg or oilfield",
+    )
+    p.add_argument("--quiet", action="store_true", help="(accepted for uniformity)")
+    p.set_defaults(func=_explore_run)
+
+
+def _explore_run(args) -> int:
+    from .explore import serve
+
+    if not 0 <= args.port <= 65535:
+        raise ValueError(f"--port must be 0 to 65535, got {args.port}")
+    try:
+        return serve(
+            args.file,
+            host=args.host,
+            port=args.port,
+            browser=not args.no_browser,
+            out=args.out,
+            json_out=args.json,
+            units=args.units,
+            kind=args.mechanism,
+        )
+    except ImportError as exc:
+        raise ValueError(str(exc)) from None
+    except OSError as exc:
+        why = exc.strerror or exc
+        raise ValueError(f"cannot serve on {args.host}:{args.port}: {why}") from None
+
+
 # ------------------------------------------------------------------------------- main
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
@@ -416,6 +477,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_optimize(sub)
     _add_pump_parser(sub)
     _add_animate(sub)
+    _add_explore(sub)
     return parser
 
 

@@ -8,9 +8,10 @@ when the output is a file or a pipe, or inside ``with quiet():`` (the command li
 
 from __future__ import annotations
 
-__all__ = ["bar", "quiet", "is_quiet", "Stages"]
+__all__ = ["bar", "quiet", "is_quiet", "observe", "Stages"]
 
 _quiet = [False]
+_observers: list = []
 
 
 class _Quiet:
@@ -37,6 +38,78 @@ def is_quiet() -> bool:
     return _quiet[0]
 
 
+class _Observing:
+    def __init__(self, callback):
+        self._callback = callback
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc) -> None:
+        _observers.remove(self._callback)
+
+
+def observe(callback) -> _Observing:
+    """Report every bar's progress to ``callback(desc, done, total)`` (after each step), shown
+    on a terminal or not: how a program other than a terminal (a web page) follows a long run.
+    In a ``with`` block the callback is removed on exit.
+
+    >>> seen = []
+    >>> with observe(lambda desc, k, n: seen.append((desc, k, n))):
+    ...     for _ in bar(range(2), desc="starts", enabled=False):
+    ...         pass
+    >>> seen
+    [('starts', 0, 2), ('starts', 1, 2), ('starts', 2, 2)]
+    """
+    _observers.append(callback)
+    return _Observing(callback)
+
+
+class _Observed:
+    """A tqdm bar that also tells the observers of each step."""
+
+    def __init__(self, inner, iterable, total, desc):
+        self._inner, self._iterable, self._desc = inner, iterable, desc
+        self._total = total if total is not None else _length(iterable)
+        self._done = 0
+        self._tell()
+
+    def _tell(self):
+        for cb in list(_observers):
+            cb(self._desc, self._done, self._total)
+
+    def __iter__(self):
+        for item in self._inner:
+            yield item
+            self._done += 1
+            self._tell()
+
+    def update(self, n=1):
+        self._inner.update(n)
+        self._done += n
+        self._tell()
+
+    def set_description_str(self, desc, *args, **kwargs):
+        self._desc = desc
+        self._inner.set_description_str(desc, *args, **kwargs)
+
+    def __getattr__(self, name):
+        return getattr(self._inner, name)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self._inner.close()
+
+
+def _length(iterable):
+    try:
+        return len(iterable)
+    except TypeError:
+        return None
+
+
 def bar(iterable=None, *, total=None, desc=None, enabled=None, leave=False, unit="it"):
     """A tqdm bar: shown when ``enabled`` is True, or when it is None and standard error is a
     terminal; never when :func:`quiet` is on."""
@@ -46,7 +119,10 @@ def bar(iterable=None, *, total=None, desc=None, enabled=None, leave=False, unit
         disable = True
     else:
         disable = None if enabled is None else False
-    return tqdm(iterable, total=total, desc=desc, disable=disable, leave=leave, unit=unit)
+    inner = tqdm(iterable, total=total, desc=desc, disable=disable, leave=leave, unit=unit)
+    if _observers:
+        return _Observed(inner, iterable, total, desc)
+    return inner
 
 
 class Stages:

@@ -1,6 +1,6 @@
 """The layers depend only leftwards: kinematics <- dynamics <- objectives <- synthesis <- machines
-<- studies <- cli (docs/architecture.md). Checked on the source, including imports inside
-functions."""
+<- studies <- explore <- cli (docs/architecture.md). Checked on the source, including imports
+inside functions."""
 
 import ast
 from pathlib import Path
@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 PACKAGE = Path(__file__).resolve().parents[1] / "mechsynth"
-ORDER = ["kinematics", "dynamics", "objectives", "synthesis", "machines", "studies"]
+ORDER = ["kinematics", "dynamics", "objectives", "synthesis", "machines", "studies", "explore"]
 
 
 def _imported_layers(path: Path):

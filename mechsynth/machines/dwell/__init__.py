@@ -11,8 +11,11 @@ The synthesis study is ``mechsynth study run dwell`` (:mod:`mechsynth.studies.dw
 """
 
 from ...synthesis.design_file import register_design
+from ...synthesis.problem_file import register_mechanism
 from .linkage import DwellSliderCrank
 
 __all__ = ["DwellSliderCrank"]
 
 register_design("dwell", DwellSliderCrank)
+# problem files over its kinematic measures (the dwell metrics are numeric: see the study)
+register_mechanism("dwell", DwellSliderCrank)
