@@ -19,6 +19,7 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
         "design_dwell",
         "design_nail_header",
         "design_six_link",
+        "design_impact_six_link",
         "pump_unit_c320",
     ],
 )

@@ -110,3 +110,16 @@ def test_bad_input():
         five_link("spline")
     with pytest.raises(ValueError, match="base_radius"):
         five_link(base_radius=-0.01)
+
+
+def test_example_file_is_the_representative_six_link():
+    from pathlib import Path
+
+    from mechsynth.synthesis.linkage_file import load_linkage
+
+    path = Path(__file__).resolve().parents[1] / "examples" / "impact_six_link.toml"
+    lk = load_linkage(path)
+    a, b = lk.motion(PHI), six_link().motion(PHI)
+    for p in ("A", "B", "K", "N"):
+        assert np.allclose(a.points[p].x, b.points[p].x, atol=1e-15)
+        assert np.allclose(a.points[p].y, b.points[p].y, atol=1e-15)
