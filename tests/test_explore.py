@@ -325,3 +325,44 @@ def test_linkage_sweeps(key):
     st = State.default(key)
     ch = model.sweep_chart(st, "AB", "DB", n=4, angles=90)
     assert ch.shape == (4, 4) and ch.feasible.any()
+
+
+def test_page_follows_the_display_units_and_the_mechanism(page):
+    from mechsynth.explore.app import label_of
+
+    slider = page.dim_widgets["crank"][0]
+    page.units_select.value = "si"
+    assert label_of(page.dim_widgets["crank"][0]) == "crank, m"
+    assert page.dim_widgets["crank"][0].value == pytest.approx(0.07)
+    assert "0.14 m" in page.stats.object and slider is not page.dim_widgets["crank"][0]
+    page.kind_select.value = "four-bar"
+    assert set(page.dim_widgets) == {"crank", "coupler", "rocker", "ground"}
+    assert "swing" in page.stats.object and "deg" in page.stats.object
+    page.kind_select.value = "impact"
+    assert "of N" in page.stats.object
+
+
+def test_page_runs_a_solve_in_a_worker_process(page):
+    import time
+
+    page.state = load_file(REFERENCE, units="mm-deg")
+    page._rebuild_dims()
+    page._refresh(None)
+    page._on_optimize()
+    assert page._proc is not None and page.opt_button.disabled
+    t0 = time.perf_counter()
+    while page._proc is not None and time.perf_counter() - t0 < 300:
+        page.poll()
+        time.sleep(0.2)
+    assert "optimal" in page.opt_status.object
+    assert page.dim_widgets["rod"][0].value == pytest.approx(200.0)
+    assert page.last_result["value"] == pytest.approx(_optimum(), rel=1e-7)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("key", list(kind_names()))
+def test_every_default_problem_solves(key):
+    """What Optimize runs on each mechanism the page starts with ends certified optimal."""
+    out = model.solve_data(State.default(key).problem_data())
+    assert out["status"] == "optimal", out["message"]
+    assert out["certification"]["certified"]

@@ -74,6 +74,7 @@ class Explorer:
         self._queue = None
         self._t0 = 0.0
         self._sweep = None
+        self._stage = ""
         self._chart = None
         self._building = False
         self._design_msgs = {}
@@ -838,6 +839,7 @@ class Explorer:
         self._proc = ctx.Process(target=_solve_worker, args=(data, self._queue), daemon=True)
         self._proc.start()
         self._t0 = time.perf_counter()
+        self._stage = "starting the solver"
         self.opt_button.disabled = True
         self.cancel_button.disabled = False
         self.progress.visible = True
@@ -881,10 +883,9 @@ class Explorer:
                     if total:
                         self.progress.max = total
                         self.progress.value = min(k, total)
-                    self.opt_status.object = (
-                        f"<span id='opt-state'>solving: {desc} {k}/"
-                        f"{total or '?'} ({elapsed:.0f} s)</span>"
-                    )
+                    self._stage = f"{desc} {k}/{total or '?'}"
+                    if total and k >= total:
+                        self._stage += ", certifying the peaks"
                 elif msg[0] == "done":
                     self._end_solve()
                     self._apply_result(msg[1])
@@ -895,6 +896,10 @@ class Explorer:
                         f"<span id='opt-state' style='color:#b00'>solve failed: {msg[1]}</span>"
                     )
                     break
+            if self._proc is not None:  # the elapsed time moves even between messages
+                self.opt_status.object = (
+                    f"<span id='opt-state'>solving: {self._stage} ({elapsed:.0f} s)</span>"
+                )
             if (
                 self._proc is not None
                 and not self._proc.is_alive()

@@ -454,7 +454,7 @@ def _impact() -> Kind:
     kind.key = "impact"
     kind.speed = 2 * math.pi * REPRESENTATIVE["speed_rpm"] / 60
     kind.objective = "peak_acceleration(N)"
-    kind.constraints = ("stroke(N) >= 40 mm", "max_pressure_angle(N) <= 30 deg")
+    kind.constraints = ("stroke(N) >= 38 mm", "max_pressure_angle(N) <= 30 deg")
     kind.vary = {"KN": (0.05, 0.1), "N_guide_offset": (-0.16, -0.12)}
     kind.trace = ("N", "K")
     return kind
