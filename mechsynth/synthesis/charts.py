@@ -29,6 +29,7 @@ stroke (:func:`slider_crank_chart`).
 from __future__ import annotations
 
 import json
+import threading
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -38,6 +39,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import MechanismError
+from ..kinematics.compiled import BatchWorkspace, batch_motion
 from ..kinematics.mechanism import input_grid
 from ..objectives.base import Measure
 from ..options import Option, chart_options
@@ -459,6 +461,27 @@ def _column(params: dict, rows=None) -> dict:
     return out
 
 
+def _keep_freed_memory(_done=[]):  # noqa: B006 - once per process
+    """Ask glibc's malloc to keep freed blocks for reuse instead of handing them back to the
+    system (its default trims the heap above 128 KiB and maps blocks above 128 KiB afresh): a
+    sweep frees and allocates blocks of the same sizes chunk after chunk, and each block the
+    system takes back costs a page fault per 4 KiB when it is touched again. Applied once per
+    process (malloc's settings are the process's); nothing on other C libraries."""
+    if _done:
+        return
+    _done.append(True)
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None)
+        mallopt = libc.mallopt
+    except (OSError, AttributeError):
+        return
+    m_trim_threshold, m_mmap_threshold = -1, -3
+    mallopt(m_mmap_threshold, 32 << 20)  # blocks up to 32 MiB come from the heap
+    mallopt(m_trim_threshold, 256 << 20)  # the heap keeps up to 256 MiB of freed memory
+
+
 def sweep(
     mechanism,
     grid: Mapping[str, Any],
@@ -473,6 +496,7 @@ def sweep(
     progress: bool = True,
     labels: Mapping[str, str] | None = None,
     workers: int = 1,
+    kernels: bool = True,
 ) -> Chart:
     """Evaluate ``measures`` over every design of a grid, vectorized in chunks.
 
@@ -496,6 +520,11 @@ def sweep(
     labels : ``{grid name: axis label with unit}`` for the figure.
     workers : threads evaluating chunks in parallel (numpy releases the GIL in its array
         loops); 1 evaluates them one after the other.
+    kernels : evaluate the motion on the compiled batch kernels when the mechanism has them
+        (slider-crank, four-bar; numba installed), streaming the chunks through one reused
+        workspace; the model's ``motion`` evaluates the rest, and every measure that needs
+        more than the kernels give (a point's track). False: always the model (the reference
+        the tests compare with).
 
     Returns
     -------
@@ -513,6 +542,7 @@ def sweep(
     from ..progress import bar as progress_bar
 
     t0 = time.perf_counter()
+    _keep_freed_memory()
     if not grid:
         raise ValueError("grid must name at least one axis")
     if not measures:
@@ -555,11 +585,30 @@ def sweep(
         if not reason[0]:
             reason[0] = msg
 
+    compiled = [kernels]  # cleared when a measure needs what the compiled motion lacks
+    local = threading.local()  # one reused workspace per thread
+
+    def motion_of(mech):
+        if compiled[0]:
+            if not hasattr(local, "ws"):
+                local.ws = BatchWorkspace()
+            motion = batch_motion(mech, phi, speed, local.ws)
+            if motion is not None:
+                return motion
+        return mech.motion(phi, speed=speed)
+
+    def measure_all(mech, motion, k):
+        vals = {}
+        for label, m in bound.items():
+            v = m.from_motion(mech, motion) if isinstance(m, Measure) else m(mech, motion)
+            vals[label] = _flat(v, k)
+        return vals
+
     def evaluate(params, rows, ok_chunk, start):
         """Build and evaluate designs ``rows`` of the chunk; split on MechanismError."""
         try:
             mech = mechanism(**_column(params, rows))
-            motion = mech.motion(phi, speed=speed)
+            motion = motion_of(mech)
         except MechanismError as exc:
             if rows.size == 1:
                 ok_chunk[rows] = False
@@ -570,16 +619,19 @@ def sweep(
             evaluate(params, rows[half:], ok_chunk, start)
             return
         k = rows.size
+        if motion.points or not compiled[0]:
+            vals = measure_all(mech, motion, k)
+        else:
+            try:
+                vals = measure_all(mech, motion, k)
+            except (KeyError, ValueError, AttributeError, TypeError):
+                # a measure needs more than the compiled kernels give (a point's track):
+                # this sweep evaluates on the model from here on
+                compiled[0] = False
+                vals = measure_all(mech, mech.motion(phi, speed=speed), k)
         finite = np.ones(k, dtype=bool)
-        vals = {}
-        for label, m in bound.items():
-            if isinstance(m, Measure):
-                v = m.from_motion(mech, motion)
-            else:
-                v = m(mech, motion)
-            v = _flat(v, k)
+        for v in vals.values():
             finite &= np.isfinite(v)
-            vals[label] = v
         if not finite.all():
             note("a measure is not finite at some designs")
         idx = start + rows

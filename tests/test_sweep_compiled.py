@@ -1,0 +1,83 @@
+"""Sweeps on the compiled kernels agree with the numpy model (the reference), measure for
+measure; measures that need more than the kernels give fall back to the model."""
+
+import numpy as np
+import pytest
+
+import mechsynth as ms
+from mechsynth import objectives as ob
+from mechsynth.kinematics import compiled
+from mechsynth.kinematics.compiled import BatchWorkspace, batch_motion
+from mechsynth.synthesis import sweep
+
+needs_numba = pytest.mark.skipif(not compiled.numba_available(), reason="numba not installed")
+PHI = np.linspace(0.0, 2 * np.pi, 97, endpoint=False)
+
+
+def _same(a, b):
+    np.testing.assert_array_equal(a.feasible, b.feasible)
+    for k in a.values:
+        x, y = a.values[k].filled(np.nan), b.values[k].filled(np.nan)
+        np.testing.assert_allclose(x, y, rtol=1e-11, atol=1e-12, equal_nan=True, err_msg=k)
+
+
+@needs_numba
+def test_slider_crank_sweep_equals_the_model():
+    grid = {"crank": np.linspace(0.02, 0.09, 9), "offset": np.linspace(-0.04, 0.05, 7)}
+    measures = {
+        "acc": ob.peak_acceleration("slider"),
+        "vel": ob.peak_velocity("slider"),
+        "pressure": ob.max_pressure_angle(),
+        "rod omega": ob.peak_angular_velocity("rod"),
+        "tr": ob.time_ratio(),
+    }
+    kw = dict(fixed={"rod": 0.12}, measures=measures, angles=120, speed=ms.rpm(300),
+              progress=False, chunk=10)  # fmt: skip
+    fast = sweep(ms.SliderCrank, grid, kernels=True, **kw)
+    ref = sweep(ms.SliderCrank, grid, kernels=False, **kw)
+    assert 0 < fast.feasible.sum() < fast.size  # some designs cannot turn: masked alike
+    _same(fast, ref)
+
+
+@needs_numba
+def test_four_bar_sweep_equals_the_model_and_falls_back_for_points():
+    grid = {"crank": np.linspace(0.8, 1.6, 6), "rocker": np.linspace(2.0, 3.5, 5)}
+    measures = {
+        "mu": ob.min_transmission_angle(),
+        "pressure": ob.max_pressure_angle(),
+        "rocker eps": ob.peak_angular_acceleration("rocker"),
+    }
+    kw = dict(fixed={"coupler": 4.3, "ground": 5.2}, angles=90, progress=False)
+    fast = sweep(ms.FourBar, grid, measures, kernels=True, **kw)
+    ref = sweep(ms.FourBar, grid, measures, kernels=False, **kw)
+    _same(fast, ref)
+    # B's velocity is a point track: not in the compiled motion, evaluated on the model
+    point = {"B speed": ob.peak_velocity("B")}
+    _same(
+        sweep(ms.FourBar, grid, point, kernels=True, **kw),
+        sweep(ms.FourBar, grid, point, kernels=False, **kw),
+    )
+
+
+@needs_numba
+def test_batch_motion_is_the_models_motion():
+    sc = ms.SliderCrank(np.array([0.05, 0.07])[:, None], 0.24, np.array([0.0, -0.03])[:, None])
+    m = sc.motion(PHI, speed=12.0)
+    fast = batch_motion(sc, PHI, speed=12.0, workspace=BatchWorkspace())
+    np.testing.assert_allclose(fast.slider.acceleration, m.slider.acceleration, atol=1e-12)
+    np.testing.assert_allclose(fast.pressure_angle, m.pressure_angle, atol=1e-12)
+    np.testing.assert_allclose(fast.transmission_angle, m.transmission_angle, atol=1e-12)
+    np.testing.assert_allclose(fast.links["rod"].omega, m.links["rod"].omega, atol=1e-10)
+    fb = ms.FourBar(np.array([1.0, 1.2])[:, None], 4.3, 3.0, 5.2, branch="crossed")
+    m, fast = fb.motion(PHI), batch_motion(fb, PHI)
+    np.testing.assert_allclose(fast.transmission_angle, m.transmission_angle, atol=1e-12)
+    np.testing.assert_allclose(fast.pressure_angle, m.pressure_angle, atol=1e-12)
+    np.testing.assert_allclose(fast.links["rocker"].epsilon, m.links["rocker"].epsilon, atol=1e-10)
+    assert batch_motion(ms.DwellSliderCrank.__new__(ms.DwellSliderCrank), PHI) is None
+
+
+def test_workspace_reuses_its_block():
+    ws = BatchWorkspace()
+    a = ws.block(10, 36)
+    b = ws.block(4, 36)
+    assert np.shares_memory(a, b) and b.shape == (8, 4, 36) and b.flags.c_contiguous
