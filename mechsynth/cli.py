@@ -183,6 +183,13 @@ def _add_chart(sub) -> None:
         help="chart option (repeatable), e.g. --set n=80 --set rod_crank=2:6 for slider-crank; "
         "--set help lists the chart's options, their defaults, units and ranges",
     )
+    p.add_argument(
+        "--dask",
+        metavar="ADDRESS",
+        help="evaluate the sweep's chunks on a Dask cluster: a scheduler address "
+        "(tcp://host:8786) or 'local' for a LocalCluster on this machine (needs "
+        "pip install 'mechsynth[distributed]'; charts built on sweep: slider-crank, linkage)",
+    )
     _add_output_options(p)
     p.set_defaults(func=_chart_run)
 
@@ -201,7 +208,50 @@ def _chart_run(args) -> int:
     options = _declared_options(f"chart {args.name!r}", chart.options, args.set)
     if options is None:
         return 0
-    return _print_result(chart(args.out, options), args)
+    if not getattr(args, "dask", None):
+        return _print_result(chart(args.out, options), args)
+    from .synthesis.charts import sweep_executor
+
+    with _dask_client(args.dask) as client, sweep_executor(client.get_executor()):
+        result = chart(args.out, options)
+    return _print_result(result, args)
+
+
+def _dask_client(address: str):
+    """A ``dask.distributed.Client`` of the scheduler at ``address``, or of a new
+    ``LocalCluster`` for ``"local"`` (closed with the client)."""
+    try:
+        from dask.distributed import Client, LocalCluster
+    except ImportError as exc:
+        raise ValueError(
+            "--dask needs dask.distributed: pip install 'mechsynth[distributed]'"
+        ) from exc
+    import contextlib
+
+    stack = contextlib.ExitStack()
+    if address == "local":
+        cluster = stack.enter_context(LocalCluster(dashboard_address=None))
+        client = Client(cluster, set_as_default=False)
+    else:
+        try:
+            client = Client(address, timeout="10s", set_as_default=False)
+        except (OSError, TimeoutError) as exc:
+            raise ValueError(f"--dask {address}: cannot reach the Dask scheduler ({exc})") from exc
+    stack.push(lambda *exc: client.close())  # the client closes first, then the cluster
+    return _ClientStack(client, stack)
+
+
+class _ClientStack:
+    """``with`` gives the client and closes it (and a cluster it was started with) on exit."""
+
+    def __init__(self, client, stack):
+        self.client, self.stack = client, stack
+
+    def __enter__(self):
+        return self.client
+
+    def __exit__(self, *exc):
+        return self.stack.__exit__(*exc)
 
 
 def _print_result(result, args) -> int:

@@ -28,6 +28,8 @@ stroke (:func:`slider_crank_chart`).
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import json
 import threading
 import time
@@ -44,7 +46,7 @@ from ..kinematics.mechanism import input_grid
 from ..objectives.base import Measure
 from ..options import Option, chart_options
 
-__all__ = ["Chart", "sweep", "slider_crank_chart", "chart_slider_crank"]
+__all__ = ["Chart", "sweep", "sweep_executor", "slider_crank_chart", "chart_slider_crank"]
 
 _OPS = {
     "<=": np.less_equal,
@@ -461,6 +463,193 @@ def _column(params: dict, rows=None) -> dict:
     return out
 
 
+@dataclass(frozen=True)
+class _SweepSpec:
+    """Everything a chunk of a sweep needs, sent once to each worker."""
+
+    mechanism: Any
+    axes: dict
+    shape: tuple
+    chunk: int
+    fixed: dict
+    design: Any
+    feasible: Any
+    measures: dict
+    phi: np.ndarray
+    speed: Any
+    kernels: bool
+
+
+@dataclass(frozen=True)
+class _BlockResult:
+    """One chunk's reduced results: feasibility, measures and varied parameters per design."""
+
+    start: int
+    ok: np.ndarray
+    values: dict
+    params: dict
+    reason: str
+
+
+_LOCAL = threading.local()  # one reused kinematics workspace per thread
+
+
+def _sweep_block(spec: _SweepSpec, c: int) -> _BlockResult | None:
+    """Evaluate chunk ``c`` of a sweep: designs ``c * chunk`` ... of the flattened grid."""
+    total = int(np.prod(spec.shape))
+    start = c * spec.chunk
+    idx = np.arange(start, min(total, start + spec.chunk))
+    k = idx.size
+    reason = [""]
+
+    def note(msg):
+        if not reason[0]:
+            reason[0] = msg
+
+    sub = np.unravel_index(idx, spec.shape)
+    vals = {n: a[s] for (n, a), s in zip(spec.axes.items(), sub)}
+    ok = np.ones(k, dtype=bool)
+    values = {label: np.zeros(k) for label in spec.measures}
+    params_out: dict = {}
+
+    def result():
+        return _BlockResult(start, ok, values, params_out, reason[0])
+
+    if spec.feasible is not None:
+        ok &= np.broadcast_to(np.asarray(spec.feasible(vals), dtype=bool), (k,))
+        if not ok.all():
+            note("outside the chart's feasible region (feasible=...)")
+    if not ok.any():
+        return result()
+    vals = _substitute(vals, ok)
+    mapped = spec.design(dict(vals)) if spec.design is not None else vals
+    clash = set(mapped) & set(spec.fixed)
+    if clash:
+        raise ValueError(f"parameters {sorted(clash)} are both on the grid and fixed")
+    params = {**spec.fixed}
+    for name, v in mapped.items():
+        params[name] = (
+            np.broadcast_to(np.asarray(v, dtype=float), (k,)).copy()
+            if np.ndim(v) or isinstance(v, (int, float, np.floating))
+            else v
+        )
+    hook = getattr(spec.mechanism, "feasibility_constraints", None)
+    if hook is not None:
+        for cname, g in hook(params, margin=0.0):
+            good = np.broadcast_to(np.asarray(g, dtype=float) > 0.0, (k,))
+            if not good.all() and (ok & ~good).any():
+                note(f"violates {cname}")
+            ok &= good
+    if not ok.any():
+        return result()
+    params = _substitute(params, ok)
+    for name, v in params.items():
+        if isinstance(v, np.ndarray) and v.ndim == 1:
+            params_out[name] = v
+    compiled = [spec.kernels]  # cleared when a measure needs what the compiled motion lacks
+
+    def motion_of(mech):
+        if compiled[0]:
+            if not hasattr(_LOCAL, "ws"):
+                _LOCAL.ws = BatchWorkspace()
+            motion = batch_motion(mech, spec.phi, spec.speed, _LOCAL.ws)
+            if motion is not None:
+                return motion
+        return mech.motion(spec.phi, speed=spec.speed)
+
+    def measure_all(mech, motion, n):
+        out = {}
+        for label, m in spec.measures.items():
+            v = m.from_motion(mech, motion) if isinstance(m, Measure) else m(mech, motion)
+            out[label] = _flat(v, n)
+        return out
+
+    def evaluate(rows):
+        """Build and evaluate designs ``rows`` of the chunk; split on MechanismError."""
+        try:
+            mech = spec.mechanism(**_column(params, rows))
+            motion = motion_of(mech)
+        except MechanismError as exc:
+            if rows.size == 1:
+                ok[rows] = False
+                note(str(exc))
+                return
+            half = rows.size // 2
+            evaluate(rows[:half])
+            evaluate(rows[half:])
+            return
+        n = rows.size
+        if motion.points or not compiled[0]:
+            got = measure_all(mech, motion, n)
+        else:
+            try:
+                got = measure_all(mech, motion, n)
+            except (KeyError, ValueError, AttributeError, TypeError):
+                # a measure needs more than the compiled kernels give (a point's track):
+                # this chunk evaluates on the model from here on
+                compiled[0] = False
+                got = measure_all(mech, mech.motion(spec.phi, speed=spec.speed), n)
+        finite = np.ones(n, dtype=bool)
+        for v in got.values():
+            finite &= np.isfinite(v)
+        if not finite.all():
+            note("a measure is not finite at some designs")
+        for label, v in got.items():
+            values[label][rows] = np.where(finite, v, 0.0)
+        ok[rows] &= finite
+
+    evaluate(np.flatnonzero(ok))
+    return result()
+
+
+def _dumps(spec) -> bytes:
+    """The sweep's spec pickled for other processes: plain pickle, else cloudpickle (local
+    functions and lambdas), else a clear error."""
+    import pickle
+
+    try:
+        return pickle.dumps(spec)
+    except (pickle.PicklingError, AttributeError, TypeError) as exc:
+        try:
+            import cloudpickle
+        except ImportError:
+            raise ValueError(
+                f"the sweep's functions cannot be sent to other processes ({exc}); define "
+                "them at module level, or install cloudpickle"
+            ) from exc
+        return cloudpickle.dumps(spec)
+
+
+_SPECS: dict = {}  # in a worker: the specs already unpickled, by their bytes' digest
+
+
+def _remote_block(payload: bytes, c: int) -> _BlockResult | None:
+    """A worker's task: unpickle the spec once per process, evaluate chunk ``c``."""
+    import hashlib
+    import pickle
+
+    key = hashlib.sha256(payload).hexdigest()
+    spec = _SPECS.get(key)
+    if spec is None:
+        _SPECS.clear()
+        spec = _SPECS[key] = pickle.loads(payload)
+    return _sweep_block(spec, c)
+
+
+_EXECUTOR: contextvars.ContextVar = contextvars.ContextVar("sweep_executor", default=None)
+
+
+@contextlib.contextmanager
+def sweep_executor(executor):
+    """Within the block, sweeps that are not given an ``executor`` use this one (the command
+    line's ``--dask`` runs the charts built on :func:`sweep` this way)."""
+    token = _EXECUTOR.set(executor)
+    try:
+        yield executor
+    finally:
+        _EXECUTOR.reset(token)
+
+
 def _keep_freed_memory(_done=[]):  # noqa: B006 - once per process
     """Ask glibc's malloc to keep freed blocks for reuse instead of handing them back to the
     system (its default trims the heap above 128 KiB and maps blocks above 128 KiB afresh): a
@@ -497,6 +686,7 @@ def sweep(
     labels: Mapping[str, str] | None = None,
     workers: int = 1,
     kernels: bool = True,
+    executor=None,
 ) -> Chart:
     """Evaluate ``measures`` over every design of a grid, vectorized in chunks.
 
@@ -525,6 +715,12 @@ def sweep(
         workspace; the model's ``motion`` evaluates the rest, and every measure that needs
         more than the kernels give (a point's track). False: always the model (the reference
         the tests compare with).
+    executor : a :class:`concurrent.futures.Executor` that evaluates the chunks (e.g.
+        ``ProcessPoolExecutor()``, or ``dask.distributed.Client(address).get_executor()`` for
+        a cluster); each task evaluates one chunk where it runs and returns only the chunk's
+        measures, feasibility and parameters. The sweep's functions travel by pickle (by
+        cloudpickle when plain pickle cannot take them, e.g. local functions). None (default):
+        this process, on ``workers`` threads.
 
     Returns
     -------
@@ -574,111 +770,23 @@ def sweep(
     chunk = int(chunk)
     if chunk < 1:
         raise ValueError(f"chunk must be >= 1, got {chunk}")
-    hook = getattr(mechanism, "feasibility_constraints", None)
-
+    spec = _SweepSpec(
+        mechanism=mechanism,
+        axes=axes,
+        shape=shape,
+        chunk=chunk,
+        fixed=fixed,
+        design=design,
+        feasible=feasible,
+        measures=bound,
+        phi=phi,
+        speed=speed,
+        kernels=bool(kernels),
+    )
     ok_all = np.zeros(total, dtype=bool)
     out = {label: np.zeros(total) for label in bound}
     par_out: dict[str, np.ndarray] = {}
-    reason = [""]
-
-    def note(msg):
-        if not reason[0]:
-            reason[0] = msg
-
-    compiled = [kernels]  # cleared when a measure needs what the compiled motion lacks
-    local = threading.local()  # one reused workspace per thread
-
-    def motion_of(mech):
-        if compiled[0]:
-            if not hasattr(local, "ws"):
-                local.ws = BatchWorkspace()
-            motion = batch_motion(mech, phi, speed, local.ws)
-            if motion is not None:
-                return motion
-        return mech.motion(phi, speed=speed)
-
-    def measure_all(mech, motion, k):
-        vals = {}
-        for label, m in bound.items():
-            v = m.from_motion(mech, motion) if isinstance(m, Measure) else m(mech, motion)
-            vals[label] = _flat(v, k)
-        return vals
-
-    def evaluate(params, rows, ok_chunk, start):
-        """Build and evaluate designs ``rows`` of the chunk; split on MechanismError."""
-        try:
-            mech = mechanism(**_column(params, rows))
-            motion = motion_of(mech)
-        except MechanismError as exc:
-            if rows.size == 1:
-                ok_chunk[rows] = False
-                note(str(exc))
-                return
-            half = rows.size // 2
-            evaluate(params, rows[:half], ok_chunk, start)
-            evaluate(params, rows[half:], ok_chunk, start)
-            return
-        k = rows.size
-        if motion.points or not compiled[0]:
-            vals = measure_all(mech, motion, k)
-        else:
-            try:
-                vals = measure_all(mech, motion, k)
-            except (KeyError, ValueError, AttributeError, TypeError):
-                # a measure needs more than the compiled kernels give (a point's track):
-                # this sweep evaluates on the model from here on
-                compiled[0] = False
-                vals = measure_all(mech, mech.motion(phi, speed=speed), k)
-        finite = np.ones(k, dtype=bool)
-        for v in vals.values():
-            finite &= np.isfinite(v)
-        if not finite.all():
-            note("a measure is not finite at some designs")
-        idx = start + rows
-        for label, v in vals.items():
-            out[label][idx] = np.where(finite, v, 0.0)
-        ok_chunk[rows] &= finite
-
-    def run_chunk(c):
-        start = c * chunk
-        idx = np.arange(start, min(total, start + chunk))
-        k = idx.size
-        sub = np.unravel_index(idx, shape)
-        vals = {n: a[s] for (n, a), s in zip(axes.items(), sub)}
-        ok = np.ones(k, dtype=bool)
-        if feasible is not None:
-            ok &= np.broadcast_to(np.asarray(feasible(vals), dtype=bool), (k,))
-            if not ok.all():
-                note("outside the chart's feasible region (feasible=...)")
-        if not ok.any():
-            return
-        vals = _substitute(vals, ok)
-        mapped = design(dict(vals)) if design is not None else vals
-        clash = set(mapped) & set(fixed)
-        if clash:
-            raise ValueError(f"parameters {sorted(clash)} are both on the grid and fixed")
-        params = {**fixed}
-        for name, v in mapped.items():
-            params[name] = (
-                np.broadcast_to(np.asarray(v, dtype=float), (k,)).copy()
-                if np.ndim(v) or isinstance(v, (int, float, np.floating))
-                else v
-            )
-        if hook is not None:
-            for cname, g in hook(params, margin=0.0):
-                good = np.broadcast_to(np.asarray(g, dtype=float) > 0.0, (k,))
-                if not good.all() and (ok & ~good).any():
-                    note(f"violates {cname}")
-                ok &= good
-        if not ok.any():
-            return
-        params = _substitute(params, ok)
-        for name, v in params.items():
-            if isinstance(v, np.ndarray) and v.ndim == 1:
-                par_out.setdefault(name, np.zeros(total))[idx] = v
-        rows = np.flatnonzero(ok)
-        evaluate(params, rows, ok, start)
-        ok_all[idx] = ok
+    reason = ""
 
     n_chunks = -(-total // chunk)
     bar = progress_bar(
@@ -687,21 +795,39 @@ def sweep(
     workers = int(workers)
     if workers < 1:
         raise ValueError(f"workers must be >= 1, got {workers}")
-    if workers == 1:
-        for c in range(n_chunks):
-            run_chunk(c)
-            bar.update()
+    if executor is None:
+        executor = _EXECUTOR.get()
+    if executor is not None:
+        # any concurrent.futures.Executor (a process pool, a Dask cluster's executor): each
+        # task evaluates one block and sends back only its reduced measures
+        payload = _dumps(spec)
+        results = executor.map(_remote_block, [payload] * n_chunks, range(n_chunks))
+    elif workers == 1:
+        results = (_sweep_block(spec, c) for c in range(n_chunks))
     else:
-        # numpy releases the GIL in its array loops: chunks run in parallel threads; each
-        # writes its own slice of the outputs
+        # numpy releases the GIL in its array loops: chunks run in parallel threads
         from concurrent.futures import ThreadPoolExecutor
 
-        with ThreadPoolExecutor(max_workers=workers) as pool:
-            for _ in pool.map(run_chunk, range(n_chunks)):
-                bar.update()
+        pool = ThreadPoolExecutor(max_workers=workers)
+        results = pool.map(_sweep_block, [spec] * n_chunks, range(n_chunks))
+    try:
+        for res in results:
+            if res is not None:
+                idx = slice(res.start, res.start + res.ok.size)
+                ok_all[idx] = res.ok
+                for label, v in res.values.items():
+                    out[label][idx] = v
+                for name, v in res.params.items():
+                    par_out.setdefault(name, np.zeros(total))[idx] = v
+                if res.reason and not reason:
+                    reason = res.reason
+            bar.update()
+    finally:
+        if executor is None and workers > 1:
+            pool.shutdown()
     bar.close()
     if not ok_all.any():
-        raise ValueError(f"no feasible design on the grid ({total} designs): {reason[0]}")
+        raise ValueError(f"no feasible design on the grid ({total} designs): {reason}")
     mask = ~ok_all.reshape(shape)
     units = {}
     for label, m in bound.items():
@@ -728,7 +854,7 @@ def sweep(
         angles=int(phi.size),
         speed=speed,
         elapsed=time.perf_counter() - t0,
-        reason=reason[0],
+        reason=reason,
         measures=dict(measures),
     )
 
@@ -743,6 +869,7 @@ def slider_crank_chart(
     progress: bool = True,
     chunk: int | None = None,
     workers: int = 1,
+    executor=None,
 ) -> Chart:
     """Slider-crank chart at a fixed stroke: peak slider acceleration, maximum pressure angle,
     time ratio and rod length over ``lambda = rod / crank`` and ``e / r = offset / crank``.
@@ -758,7 +885,7 @@ def slider_crank_chart(
     rod_crank, offset_crank : grid values (default 200 values each over [1.5, 8] and [0, 2]).
     speed : crank speed (rad/s; default 600 rpm).
     angles : crank angles per cycle.
-    progress, chunk, workers : as :func:`sweep`.
+    progress, chunk, workers, executor : as :func:`sweep`.
     """
     from ..kinematics.slider_crank import SliderCrank
     from ..objectives.base import ScalarMeasure
@@ -796,6 +923,7 @@ def slider_crank_chart(
         chunk=chunk,
         progress=progress,
         workers=workers,
+        executor=executor,
         labels={
             "rod/crank": "λ = rod / crank (–)",
             "offset/crank": "e / r = offset / crank (–)",
