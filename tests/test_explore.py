@@ -366,3 +366,47 @@ def test_every_default_problem_solves(key):
     out = model.solve_data(State.default(key).problem_data())
     assert out["status"] == "optimal", out["message"]
     assert out["certification"]["certified"]
+
+
+def test_command_serves_the_page_and_prints_its_address(tmp_path):
+    """`mechsynth explore --no-browser --json`: one JSON line once serving; the page answers."""
+    import os
+    import threading
+    import urllib.request
+
+    pytest.importorskip("panel")
+    env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "mechsynth",
+            "explore",
+            "--mechanism",
+            "four-bar",
+            "--no-browser",
+            "--json",
+            "--out",
+            str(tmp_path),
+        ],
+        cwd=ROOT,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        line = []
+        reader = threading.Thread(target=lambda: line.append(proc.stdout.readline()))
+        reader.start()
+        reader.join(timeout=120)
+        assert line and line[0].strip(), proc.stderr.read() if proc.poll() is not None else ""
+        info = json.loads(line[0])
+        assert info["host"] == "127.0.0.1" and info["url"] == f"http://127.0.0.1:{info['port']}/"
+        assert info["out"] == str(tmp_path)
+        with urllib.request.urlopen(info["url"], timeout=60) as r:
+            html = r.read().decode()
+        assert r.status == 200 and "mechsynth explore" in html
+    finally:
+        proc.terminate()
+        proc.wait(timeout=30)

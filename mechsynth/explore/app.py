@@ -1293,6 +1293,9 @@ def serve(
 
     del start  # read once above so that a bad file fails before the server starts
     origins = [f"{host}:{port}", f"localhost:{port}", f"127.0.0.1:{port}"]
+    if host not in ("127.0.0.1", "localhost", "::1"):
+        # served on a network address (--host): pages reach it by names the server cannot list
+        origins.append("*")
     server = pn.serve(
         {"/": page},
         port=port,

@@ -946,12 +946,21 @@ def sweep_chart(
     if not measures:
         raise ValueError("the chart shows the problem's measures: give an objective")
     fixed_vals = {k: v for k, v in state.values.items() if k not in (x, y)}
+    # the sweep's axes stay in SI (its figure's labels say so)
+    labels = {n: f"{n}, {state.kind.dim(n).unit}" if state.kind.dim(n).unit else n for n in axes}
     kind = state.kind
 
     if kind.mechanism == "linkage":
         lk = kind.build(dict(state.values))
         return sweep(
-            lk, axes, measures, fixed=fixed_vals, angles=angles, speed=state.speed, progress=False
+            lk,
+            axes,
+            measures,
+            fixed=fixed_vals,
+            angles=angles,
+            speed=state.speed,
+            progress=False,
+            labels=labels,
         )
     if kind.to_params:  # the API dimensions map to the mechanism's parameters
         cls = type(kind.build(dict(state.values)))
@@ -969,10 +978,18 @@ def sweep_chart(
             angles=angles,
             speed=state.speed,
             progress=False,
+            labels=labels,
         )
     cls = type(kind.build(dict(state.values)))
     return sweep(
-        cls, axes, measures, fixed=fixed_vals, angles=angles, speed=state.speed, progress=False
+        cls,
+        axes,
+        measures,
+        fixed=fixed_vals,
+        angles=angles,
+        speed=state.speed,
+        progress=False,
+        labels=labels,
     )
 
 
