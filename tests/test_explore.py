@@ -410,3 +410,17 @@ def test_command_serves_the_page_and_prints_its_address(tmp_path):
     finally:
         proc.terminate()
         proc.wait(timeout=30)
+
+
+def test_page_loads_a_file_by_its_path_and_names_a_bad_one(page):
+    page.file_input.value = str(EXAMPLES / "nope.toml")
+    page._on_load()
+    assert page.file_msg.visible and "nope.toml not found" in page.file_msg.object
+    page.file_input.value = str(EXAMPLES / "optimize_six_link.toml")
+    page._on_load()
+    assert not page.file_msg.visible
+    assert page.kind_select.value == "__file__"
+    assert "Linkage from optimize_six_link.toml" in page.kind_select.options
+    assert set(page.state.vary) == {"OA", "DB", "K_along", "KN"}
+    assert page.dim_widgets["KN"][1].value  # its vary box is ticked
+    assert "of N" in page.stats.object
