@@ -33,6 +33,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .errors import MechanismError
+
 __all__ = [
     "DisplayUnits",
     "PRESETS",
@@ -74,7 +76,7 @@ class DisplayUnits:
         for kind, table in _KINDS.items():
             value = getattr(self, kind)
             if value not in table:
-                raise ValueError(
+                raise MechanismError(
                     f"display {kind} unit must be one of {', '.join(table)}, got {value!r}"
                 )
 
@@ -175,7 +177,7 @@ def display_units(
     elif isinstance(preset, str) and preset in PRESETS:
         base = DisplayUnits(**PRESETS[preset])
     else:
-        raise ValueError(
+        raise MechanismError(
             f"display units preset must be one of {', '.join(PRESETS)}, got {preset!r}"
         )
     changes = dict(length=length, angle=angle, force=force, torque=torque, mass=mass)

@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from . import display
+from .errors import MechanismError
 
 __all__ = ["table", "write_csv", "as_lists", "per_angle"]
 
@@ -23,7 +24,7 @@ def per_angle(values, phi) -> np.ndarray:
     shape = np.shape(phi)
     a = np.asarray(values, dtype=float)
     if len(shape) != 1 or a.ndim > 1 or (a.ndim == 1 and a.shape != shape):
-        raise ValueError(
+        raise MechanismError(
             f"a table holds one design over a 1-D set of crank angles; this result has shape "
             f"{a.shape} over angles {shape}: select one design first"
         )
@@ -47,16 +48,16 @@ def table(columns) -> dict[str, np.ndarray]:
             if arr.dtype.kind in "fiu":
                 arr = arr.astype(float)
         if arr.ndim != 1:
-            raise ValueError(
+            raise MechanismError(
                 f"column {name!r} has shape {arr.shape}: tables hold one design per row set "
                 "(select one design of a batch first)"
             )
         size = arr.size if size is None else size
         if arr.size != size:
-            raise ValueError(f"column {name!r} has {arr.size} rows, the others {size}")
+            raise MechanismError(f"column {name!r} has {arr.size} rows, the others {size}")
         head = f"{name} [{shown}]" if shown else name
         if head in out:
-            raise ValueError(f"column {head!r} appears twice")
+            raise MechanismError(f"column {head!r} appears twice")
         out[head] = arr
     return out
 

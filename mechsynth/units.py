@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .errors import MechanismError
+
 __all__ = [
     "deg",
     "to_deg",
@@ -72,7 +74,7 @@ def cycle(n: int = 360, *, start: float = 0.0, endpoint: bool = False) -> np.nda
     """
     n = int(n)
     if n < 2:
-        raise ValueError(f"cycle: n must be at least 2, got {n}")
+        raise MechanismError(f"cycle: n must be at least 2, got {n}")
     return start + np.linspace(0.0, 2.0 * np.pi, n, endpoint=endpoint)
 
 
@@ -85,7 +87,7 @@ def to_dms(angle: float) -> tuple[int, int, float]:
     """Radians -> (degrees, arc-minutes, arc-seconds), the inverse of :func:`dms` (angle >= 0)."""
     total = float(np.rad2deg(angle)) * 3600.0
     if total < 0:
-        raise ValueError(f"to_dms expects a non-negative angle, got {angle} rad")
+        raise MechanismError(f"to_dms expects a non-negative angle, got {angle} rad")
     d, rest = divmod(total, 3600.0)
     m, s = divmod(rest, 60.0)
     return int(d), int(m), s

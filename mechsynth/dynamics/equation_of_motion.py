@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import MechanismError
 from .motor import InductionMotor
 
 __all__ = [
@@ -80,7 +81,7 @@ class CycleResult:
 def _check_omega0(omega0):
     w = float(omega0)
     if not np.isfinite(w) or w <= 0:
-        raise ValueError(f"omega0 must be a positive finite speed, got {omega0}")
+        raise MechanismError(f"omega0 must be a positive finite speed, got {omega0}")
     return w
 
 
@@ -108,7 +109,9 @@ def _one_cycle(model, drive, w0, n, rtol):
         method="DOP853",
     )
     if not sol.success or sol.y.shape[1] != phi.size or np.any(sol.y[0] <= 0):
-        raise ValueError(f"integration failed from omega0={w0}: {sol.message} (machine stalls?)")
+        raise MechanismError(
+            f"integration failed from omega0={w0}: {sol.message} (machine stalls?)"
+        )
     return phi, sol.y[0]
 
 
@@ -132,7 +135,7 @@ def run_up(model, drive, omega0, turns=1.0, n=360, rtol=1e-10):
         method="DOP853",
     )
     if not sol.success or sol.y.shape[1] != phi.size:
-        raise ValueError(f"integration failed from omega0={w0}: {sol.message}")
+        raise MechanismError(f"integration failed from omega0={w0}: {sol.message}")
     return phi, sol.y[0]
 
 
@@ -202,7 +205,7 @@ def _stepping_cycle(model, motor, w0, phi):
         r = np.roots(quartic_coefficients(j[i], c, motor, dphi))
         r = r[(np.abs(r.imag) < 1e-9 * np.abs(r)) & (r.real > 0)].real
         if r.size == 0:
-            raise ValueError(f"no positive real root at phi={phi[i]:.4g}: machine stalls")
+            raise MechanismError(f"no positive real root at phi={phi[i]:.4g}: machine stalls")
         w[i] = r[np.argmin(np.abs(r - w[i - 1]))]
         m_prev = m_i
     return w
@@ -212,7 +215,9 @@ def energy_stepping(model, motor: InductionMotor, omega0, n=360, tol=1e-10, max_
     """Steady cycle by the paper's energy-form stepping (quartic per step), repeated turn after
     turn with secant acceleration until periodic. Second-order accurate in ``dphi``."""
     if not isinstance(motor, InductionMotor):
-        raise ValueError("energy_stepping needs an InductionMotor (the quartic is Kloss-specific)")
+        raise MechanismError(
+            "energy_stepping needs an InductionMotor (the quartic is Kloss-specific)"
+        )
     w0 = _check_omega0(omega0)
     phi = np.linspace(0.0, 2 * np.pi, int(n) + 1)
     g = lambda w: _stepping_cycle(model, motor, w, phi)[-1]  # noqa: E731
@@ -255,7 +260,7 @@ def size_flywheel(model, drive, omega0, delta, n=180, j_max=None, rtol=1e-6):
     the simulated delta, relative tolerance ``rtol``). Returns ``(J_fly, CycleResult)``;
     ``J_fly = 0`` when the machine already meets ``delta``."""
     if not np.isfinite(delta) or delta <= 0:
-        raise ValueError(f"delta must be positive, got {delta}")
+        raise MechanismError(f"delta must be positive, got {delta}")
     start = [_check_omega0(omega0)]
 
     def f(jf):
@@ -269,7 +274,7 @@ def size_flywheel(model, drive, omega0, delta, n=180, j_max=None, rtol=1e-6):
     while f(hi) > 0:
         hi *= 4.0
         if hi > 1e9:
-            raise ValueError("no flywheel up to 1e9 kg m^2 reaches the requested delta")
+            raise MechanismError("no flywheel up to 1e9 kg m^2 reaches the requested delta")
     from scipy.optimize import brentq
 
     jf = brentq(f, 0.0, hi, rtol=rtol)

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..errors import MechanismError
 from ..kinematics import ops
 from ..kinematics.mechanism import check_finite
 from ..kinematics.tracks import Motion, PointTrack
@@ -24,7 +25,7 @@ def _check_nonnegative(name, value):
         import numpy as np
 
         if np.any(np.asarray(value) < 0.0):
-            raise ValueError(f"{name} must not be negative, got {value}")
+            raise MechanismError(f"{name} must not be negative, got {value}")
     return value
 
 

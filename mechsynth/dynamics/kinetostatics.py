@@ -29,6 +29,7 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import MechanismError
 from ..kinematics import ops
 from ..kinematics.tracks import Motion
 from .inertia import LinkInertia, com_track
@@ -131,14 +132,14 @@ class ForceModel:
         object.__setattr__(self, "loads", tuple(self.loads))
         names = set(self.bodies)
         if self.driver not in names:
-            raise ValueError(f"driver {self.driver!r} is not a body ({sorted(names)})")
+            raise MechanismError(f"driver {self.driver!r} is not a body ({sorted(names)})")
         for j in self.joints:
             for b in (j.on, j.by):
                 if b != FRAME and b not in names:
-                    raise ValueError(f"joint {j.name} names an unknown body {b!r}")
+                    raise MechanismError(f"joint {j.name} names an unknown body {b!r}")
         n = sum(_unknowns(j) for j in self.joints) + 1
         if n != 3 * len(self.bodies):
-            raise ValueError(
+            raise MechanismError(
                 f"{len(self.joints)} joints and the drive give {n} unknowns, but "
                 f"{len(self.bodies)} bodies give {3 * len(self.bodies)} equations"
             )
@@ -187,6 +188,12 @@ class ForceResult:
 
     def magnitude(self, joint: str):
         """Magnitude of the reaction at ``joint`` (N) at every angle."""
+        if joint not in self.reactions:
+            from ..errors import UsageError
+
+            raise UsageError(
+                f"no joint {joint!r} with a reaction; the joints: {', '.join(self.reactions)}"
+            )
         fx, fy = self.reactions[joint]
         return ops.hypot(fx, fy)
 
@@ -339,7 +346,7 @@ def _entries(model: ForceModel, motion: Motion):
             nx, ny = ops.cos(th), ops.sin(th)
             cols = ((nx, ny, x * ny - y * nx),)
         else:
-            raise ValueError(f"unknown joint type {type(j).__name__}")
+            raise MechanismError(f"unknown joint type {type(j).__name__}")
         for sign, body in ((1.0, j.on), (-1.0, j.by)):
             if body == FRAME:
                 continue
@@ -431,7 +438,7 @@ def kinetostatics(model: ForceModel, motion: Motion) -> ForceResult:
             if model.drive is None
             else f"input {at:.6g} (m of the driving slider)"
         )
-        raise ValueError(
+        raise MechanismError(
             f"kinetostatics: singular equilibrium system at {where} (toggle or ill-posed model)"
         )
     cols = [X[..., k] for k in range(n)]

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
+from ..errors import MechanismError
 from ..kinematics.linkage import Linkage, register_force_builder
 from .inertia import LinkInertia
 from .kinetostatics import FRAME, Contact, DrivingForce, ForceModel, Prismatic, Revolute
@@ -34,7 +35,7 @@ def _inertia(lk: Linkage, name: str, spec) -> LinkInertia:
     if isinstance(spec, Mapping):
         unknown = set(spec) - {"mass", "com", "inertia"}
         if unknown:
-            raise ValueError(
+            raise MechanismError(
                 f"inertia of {name}: unknown keys {sorted(unknown)}; use mass, com, inertia"
             )
         return LinkInertia(
@@ -47,7 +48,7 @@ def _inertia(lk: Linkage, name: str, spec) -> LinkInertia:
     try:
         mass, com, inertia = spec
     except (TypeError, ValueError):
-        raise ValueError(
+        raise MechanismError(
             f"inertia of {name}: give a LinkInertia, {{'mass', 'com', 'inertia'}} or "
             f"(mass, (u, v), inertia), got {spec!r}"
         ) from None
@@ -76,7 +77,7 @@ def linkage_force_model(lk: Linkage, inertias: Mapping | None = None, loads=()) 
     inertias = dict(inertias or {})
     unknown = set(inertias) - set(topo.bodies)
     if unknown:
-        raise ValueError(
+        raise MechanismError(
             f"inertias name unknown links {sorted(unknown)}; links: {', '.join(topo.bodies)}"
         )
     bodies = {name: _inertia(lk, name, inertias.get(name)) for name in topo.bodies}

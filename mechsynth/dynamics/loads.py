@@ -18,6 +18,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from ..errors import MechanismError
 from ..kinematics import ops
 from ..kinematics.mechanism import check_finite
 from ..kinematics.tracks import Motion
@@ -51,7 +52,7 @@ class Wrench(NamedTuple):
 def _nonnegative(name, value):
     value = check_finite(name, value)
     if not ops.is_symbolic(value) and np.any(np.asarray(value) < 0):
-        raise ValueError(f"{name} must not be negative, got {value}")
+        raise MechanismError(f"{name} must not be negative, got {value}")
     return value
 
 
@@ -127,7 +128,7 @@ class TorsionSpring:
         object.__setattr__(self, "stiffness", _nonnegative("spring stiffness", self.stiffness))
         object.__setattr__(self, "angle0", check_finite("spring angle0", self.angle0))
         if self.sense not in (1, -1):
-            raise ValueError(f"spring sense must be +1 or -1, got {self.sense!r}")
+            raise MechanismError(f"spring sense must be +1 or -1, got {self.sense!r}")
 
     def twist(self, motion: Motion):
         return self.sense * (self.angle0 - motion.links[self.link].angle)
@@ -160,21 +161,21 @@ class TabulatedLoad:
         x = np.asarray(check_finite(self.x_field, self.x), dtype=float).ravel()
         y = np.asarray(check_finite(self.y_field, self.y), dtype=float).ravel()
         if x.size < 2 or x.size != y.size:
-            raise ValueError(
+            raise MechanismError(
                 f"table fields {self.x_field!r} and {self.y_field!r} need the same length >= 2, "
                 f"got {x.size} and {y.size}"
             )
         steps = np.diff(x)
         if np.any(steps <= 0):
             i = int(np.argmax(steps <= 0))
-            raise ValueError(
+            raise MechanismError(
                 f"table field {self.x_field!r} must be strictly increasing: "
                 f"row {i + 1} ({x[i + 1]:.6g}) follows {x[i]:.6g}"
             )
         if self.period is not None:
             period = float(check_finite("period", self.period))
             if period <= 0 or x[-1] - x[0] > period * (1 + 1e-12):
-                raise ValueError(
+                raise MechanismError(
                     f"table field {self.x_field!r} spans {x[-1] - x[0]:.6g}, more than the "
                     f"period {period:.6g}"
                 )
@@ -189,12 +190,12 @@ class TabulatedLoad:
             rows = list(csv.DictReader(fh))
         for name in (x_field, y_field):
             if not rows or name not in rows[0]:
-                raise ValueError(f"CSV {path} has no column {name!r}")
+                raise MechanismError(f"CSV {path} has no column {name!r}")
         try:
             x = np.array([float(r[x_field]) for r in rows]) * x_scale
             y = np.array([float(r[y_field]) for r in rows]) * y_scale
         except ValueError as exc:
-            raise ValueError(f"CSV {path}: non-numeric entry ({exc})") from exc
+            raise MechanismError(f"CSV {path}: non-numeric entry ({exc})") from exc
         p = None if period is None else period
         return cls(x, y, p, x_field, y_field)
 
@@ -203,7 +204,7 @@ class TabulatedLoad:
         if self.period is None:
             lo, hi = self.x[0], self.x[-1]
             if np.any(xq < lo) or np.any(xq > hi):
-                raise ValueError(
+                raise MechanismError(
                     f"table field {self.x_field!r} covers [{lo:.6g}, {hi:.6g}], asked "
                     f"[{xq.min():.6g}, {xq.max():.6g}]"
                 )

@@ -12,13 +12,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import MechanismError
+
 __all__ = ["InductionMotor", "LinearDrive"]
 
 
 def _positive(name, value):
     v = float(value)
     if not math.isfinite(v) or v <= 0.0:
-        raise ValueError(f"{name} must be a positive finite number, got {value}")
+        raise MechanismError(f"{name} must be a positive finite number, got {value}")
     return v
 
 
@@ -45,12 +47,12 @@ class InductionMotor:
         _positive("breakdown_torque", self.breakdown_torque)
         sk = float(self.critical_slip)
         if not math.isfinite(sk) or not 0.0 < sk < 1.0:
-            raise ValueError(f"critical_slip must lie in (0, 1), got {self.critical_slip}")
+            raise MechanismError(f"critical_slip must lie in (0, 1), got {self.critical_slip}")
         _positive("sync_speed", self.sync_speed)
         _positive("gear_ratio", self.gear_ratio)
         eta = float(self.efficiency)
         if not math.isfinite(eta) or not 0.0 < eta <= 1.0:
-            raise ValueError(f"efficiency must lie in (0, 1], got {self.efficiency}")
+            raise MechanismError(f"efficiency must lie in (0, 1], got {self.efficiency}")
 
     @classmethod
     def from_catalogue(
@@ -78,13 +80,13 @@ class InductionMotor:
         ws = _positive("sync_speed", sync_speed)
         lam = float(overload_ratio)
         if not math.isfinite(lam) or lam <= 1.0:
-            raise ValueError(f"overload_ratio must exceed 1, got {overload_ratio}")
+            raise MechanismError(f"overload_ratio must exceed 1, got {overload_ratio}")
         if wn >= ws:
-            raise ValueError(f"rated_speed {wn} must be below sync_speed {ws}")
+            raise MechanismError(f"rated_speed {wn} must be below sync_speed {ws}")
         sn = 1.0 - wn / ws
         sk = sn * (lam + math.sqrt(lam * lam - 1.0))
         if sk >= 1.0:
-            raise ValueError(
+            raise MechanismError(
                 f"critical slip {sk:.4g} from rated slip {sn:.4g} and overload_ratio {lam} "
                 "is not below 1"
             )

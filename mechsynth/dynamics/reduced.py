@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..errors import MechanismError
 from .inertia import com_track, reduced_inertia
 
 __all__ = ["ReducedModel", "reduced_model", "gravity_moment", "point_force_moment"]
@@ -71,16 +72,20 @@ class ReducedModel:
         for name in ("phi_grid", "j_grid", "dj_grid", "m_grid"):
             a = np.asarray(getattr(self, name), dtype=float)
             if a.shape != phi.shape or not np.all(np.isfinite(a)):
-                raise ValueError(f"{name} must be finite with the shape of phi_grid {phi.shape}")
+                raise MechanismError(
+                    f"{name} must be finite with the shape of phi_grid {phi.shape}"
+                )
         if phi.ndim != 1 or phi.size < 4 or np.any(np.diff(phi) <= 0):
-            raise ValueError("phi_grid must be 1-D, increasing, with at least 4 angles")
+            raise MechanismError("phi_grid must be 1-D, increasing, with at least 4 angles")
         if abs(phi[-1] - phi[0] - 2 * np.pi) > 1e-9:
-            raise ValueError("phi_grid must span exactly one turn (closed: last = first + 2 pi)")
+            raise MechanismError(
+                "phi_grid must span exactly one turn (closed: last = first + 2 pi)"
+            )
         if not np.isfinite(self.flywheel) or self.flywheel < 0:
-            raise ValueError(f"flywheel must be a non-negative inertia, got {self.flywheel}")
+            raise MechanismError(f"flywheel must be a non-negative inertia, got {self.flywheel}")
         j = np.asarray(self.j_grid, dtype=float)
         if np.any(j + self.flywheel <= 0):
-            raise ValueError(f"reduced inertia must be positive, min {j.min() + self.flywheel}")
+            raise MechanismError(f"reduced inertia must be positive, min {j.min() + self.flywheel}")
         from scipy.interpolate import CubicHermiteSpline  # deferred: heavy
 
         sj = CubicHermiteSpline(phi, j, np.asarray(self.dj_grid, dtype=float))

@@ -40,6 +40,7 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import MechanismError
 from ..kinematics.mechanism import check_length
 from ..kinematics.spatial import perpendicular_basis, skew
 
@@ -70,11 +71,11 @@ class SpatialJoint:
 
     def __post_init__(self):
         if self.kind not in JOINT_KINDS:
-            raise ValueError(
+            raise MechanismError(
                 f"joint {self.name}: kind must be one of {sorted(JOINT_KINDS)}, got {self.kind!r}"
             )
         if self.on == self.by:
-            raise ValueError(f"joint {self.name} joins body {self.on!r} to itself")
+            raise MechanismError(f"joint {self.name} joins body {self.on!r} to itself")
 
     @property
     def size(self) -> int:
@@ -246,7 +247,7 @@ def solve_spatial(
     for j in joints:
         for b in (j.on, j.by):
             if b != FRAME and b not in row:
-                raise ValueError(f"joint {j.name} names an unknown body {b!r}")
+                raise MechanismError(f"joint {j.name} names an unknown body {b!r}")
         c = cols[j.name]
         p = b3(points[j.name])
         if j.kind != "spherical":
@@ -267,7 +268,7 @@ def solve_spatial(
                 E[..., r + 3 : r + 6, c + 3 : c + 3 + k] += sign * basis[j.name]
     for b, (force, moment) in loads.items():
         if b not in row:
-            raise ValueError(f"load on an unknown body {b!r}")
+            raise MechanismError(f"load on an unknown body {b!r}")
         f[..., row[b] : row[b] + 3] += b3(force)
         f[..., row[b] + 3 : row[b] + 6] += b3(moment) / L
 
@@ -288,7 +289,7 @@ def solve_spatial(
     rank = int(ranks.flat[0]) if ranks.size else min(keep_r.size, keep_c.size)
     if np.any(ranks != rank):
         i = np.unravel_index(int(np.argmax(ranks != rank)), ranks.shape)
-        raise ValueError(
+        raise MechanismError(
             f"spatial kinetostatics: the equilibrium matrix changes rank ({rank} -> "
             f"{int(ranks[i])}) at sample {tuple(int(k) for k in i)}: a singular position"
         )
@@ -308,7 +309,7 @@ def solve_spatial(
     energy = np.zeros(shape)
     if nullity:
         if not compliance:
-            raise ValueError(
+            raise MechanismError(
                 f"the pairs are redundant ({nullity} self-stress states): the reactions are "
                 "statically indeterminate; give the compliance of the elastic bodies"
             )
@@ -319,7 +320,7 @@ def solve_spatial(
         for name, (body, C) in compliance.items():
             j = next((jj for jj in joints if jj.name == name), None)
             if j is None or body not in (j.on, j.by):
-                raise ValueError(f"compliance at {name!r}: no such joint with body {body!r}")
+                raise MechanismError(f"compliance at {name!r}: no such joint with body {body!r}")
             P = np.zeros(shape + (6, j.size))  # reaction components -> (force, moment)
             P[..., :3, :3] = np.eye(3)
             if name in basis:
@@ -331,7 +332,7 @@ def solve_spatial(
         for name, (trans, rot) in (misfit or {}).items():
             j = next((jj for jj in joints if jj.name == name), None)
             if j is None:
-                raise ValueError(f"misfit at an unknown joint {name!r}")
+                raise MechanismError(f"misfit at an unknown joint {name!r}")
             c = cols[name]
             g[..., c : c + 3] = b3(trans)
             if name in basis:
@@ -342,7 +343,7 @@ def solve_spatial(
         try:
             x = np.linalg.solve(S, -rhs)
         except np.linalg.LinAlgError as exc:
-            raise ValueError(
+            raise MechanismError(
                 "the compliance does not reach every self-stress state (N^T H N singular): "
                 "a redundant constraint with no elastic body in its loop"
             ) from exc

@@ -58,6 +58,8 @@ from functools import cache
 
 import numpy as np
 
+from .. import validate
+from ..errors import MechanismError
 from . import ops
 from .four_bar import FourBar, four_bar_chain
 from .slider_crank import SliderCrank, slider_crank_chain
@@ -128,7 +130,7 @@ def numba_available() -> bool:
 
 def _backend(backend: str) -> str:
     if backend not in _BACKENDS:
-        raise ValueError(f"backend must be one of {_BACKENDS}, got {backend!r}")
+        raise MechanismError(f"backend must be one of {_BACKENDS}, got {backend!r}")
     if backend == "auto":
         return "numba" if numba_available() else "numpy"
     if backend == "numba" and not numba_available():
@@ -140,22 +142,25 @@ def _backend(backend: str) -> str:
 
 def _designs(phi, **params):
     """Parameters as float arrays broadcast to ``(n,)`` and the angles as a float ``(m,)`` array."""
-    phi = np.asarray(phi, dtype=float)
+    phi = np.asarray(validate.angles(phi, "phi"), dtype=float)
     if phi.ndim != 1:
-        raise ValueError(f"phi must be a 1-D array of crank angles, got shape {phi.shape}")
+        raise MechanismError(f"phi must be a 1-D array of crank angles, got shape {phi.shape}")
     values = params.values()
     if all(type(v) is float or type(v) is int for v in values):  # one design: no broadcasting
         return phi, {k: np.array([v], dtype=float) for k, v in params.items()}
-    arrays = {k: np.asarray(v, dtype=float) for k, v in params.items()}
+    arrays = {k: np.asarray(validate.real(k, v), dtype=float) for k, v in params.items()}
     n = 1
     for k, v in arrays.items():
         if v.ndim > 1:
-            raise ValueError(f"{k} must be a scalar or a 1-D array of designs, got shape {v.shape}")
+            raise MechanismError(
+                f"{k} must be a scalar or a 1-D array of designs, got shape {v.shape}"
+            )
         if v.ndim == 1 and v.size != 1:
             if n != 1 and v.size != n:
                 sizes = {k: x.shape for k, x in arrays.items()}
-                raise ValueError(f"the parameter arrays do not broadcast together: {sizes}")
+                raise MechanismError(f"the parameter arrays do not broadcast together: {sizes}")
             n = v.size
+    validate.check_size(f"a batch of {n} designs x {phi.size} crank angles", 6.0 * n * phi.size)
     return phi, {
         k: np.ascontiguousarray(v) if v.size == n and v.ndim == 1 else np.full(n, v.item())
         for k, v in arrays.items()
@@ -195,7 +200,7 @@ def _speed(speed):
         return 1.0
     w = float(speed)
     if not math.isfinite(w):
-        raise ValueError(f"speed must be finite, got {speed!r}")
+        raise MechanismError(f"speed must be finite, got {speed!r}")
     return w
 
 
@@ -331,7 +336,7 @@ def _output(out, n, m):
         and out.flags.c_contiguous
         and out.flags.writeable
     ):
-        raise ValueError(
+        raise MechanismError(
             f"out must be a writeable C-contiguous float64 array of shape {(6, n, m)}, got "
             f"{getattr(out, 'shape', None)} {getattr(out, 'dtype', type(out).__name__)}"
         )

@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import MechanismError
 from . import ops
 from .taylor import Taylor
 
@@ -46,7 +47,7 @@ class Curve:
         self.roles = dict(roles)
         lo, hi = (float(v) for v in domain)
         if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
-            raise ValueError(
+            raise MechanismError(
                 f"{self.kind} domain must be finite (lo, hi) with lo < hi, got {domain}"
             )
         self.domain = (lo, hi)
@@ -107,7 +108,7 @@ class Involute(Curve):
     def __init__(self, base_radius, center=(0.0, 0.0), phase=0.0, roll=(0.05, 2.0)):
         cu, cv = center
         if float(roll[0]) <= 0.0:
-            raise ValueError(
+            raise MechanismError(
                 f"involute roll angles must start above 0 (the cusp has no tangent), got {roll}"
             )
         super().__init__(
@@ -180,7 +181,7 @@ class ParametricCurve(Curve):
         try:
             x, y = out
         except (TypeError, ValueError):
-            raise ValueError(f"the curve function must return (x, y), got {out!r}") from None
+            raise MechanismError(f"the curve function must return (x, y), got {out!r}") from None
         # a coordinate that does not depend on sigma comes back as a plain value
         x = x if isinstance(x, Taylor) else Taylor((x + 0.0 * sigma,) + (0.0 * sigma,) * 3)
         y = y if isinstance(y, Taylor) else Taylor((y + 0.0 * sigma,) + (0.0 * sigma,) * 3)

@@ -21,6 +21,7 @@ import numpy as np
 from matplotlib import animation as manim
 
 from .. import display
+from ..errors import MechanismError
 from ..plotting import PALETTE
 from .sketch import Sketch
 
@@ -138,7 +139,7 @@ class _Scene:
         self.traces = []
         for i, name in enumerate(trace or ()):
             if name not in sketch.points:
-                raise ValueError(
+                raise MechanismError(
                     f"cannot trace {name!r}: the mechanism's points are {', '.join(sketch.points)}"
                 )
             x, y = sketch.points[name]
@@ -367,7 +368,7 @@ class MechanismAnimation(manim.FuncAnimation):
                 return self._save_gif(path, fps, dpi)
             if ext in (".mp4", ".m4v", ".mov"):
                 if not manim.writers.is_available("ffmpeg"):
-                    raise ValueError(
+                    raise MechanismError(
                         f"cannot write {path.name}: MP4 needs ffmpeg, which is not "
                         "installed; save as .gif (pillow) or .html instead"
                     )
@@ -375,7 +376,9 @@ class MechanismAnimation(manim.FuncAnimation):
             elif ext in (".html", ".htm"):
                 writer = manim.HTMLWriter(fps=fps, embed_frames=True)
             else:
-                raise ValueError(f"cannot write {path.name}: give a .gif, .mp4 or .html file name")
+                raise MechanismError(
+                    f"cannot write {path.name}: give a .gif, .mp4 or .html file name"
+                )
         super().save(str(path), writer=writer, dpi=dpi, **kwargs)
         return path
 

@@ -18,9 +18,18 @@ from typing import ClassVar
 
 import numpy as np
 
+from .. import validate
+from ..errors import MechanismError
 from . import ops
 from .blocks import coupler_point, crank_pin, dyad_rrr
-from .mechanism import Mechanism, as_angles, check_length, fail_where, speed_pair
+from .mechanism import (
+    Mechanism,
+    as_angles,
+    check_length,
+    fail_where,
+    guard_motion,
+    speed_pair,
+)
 from .tracks import Jet, LinkTrack, Motion, PointJet, PointTrack
 
 __all__ = ["FourBar", "Grashof", "grashof", "four_bar_chain"]
@@ -124,11 +133,13 @@ class FourBar(Mechanism):
     def __post_init__(self):
         for name in self.parameters:
             object.__setattr__(self, name, check_length(name, getattr(self, name)))
-        if self.branch not in _BRANCHES:
-            raise ValueError(f"branch must be 'open' or 'crossed', got {self.branch!r}")
+        if type(self.branch) is not str or self.branch not in _BRANCHES:
+            validate.option("branch", self.branch, tuple(_BRANCHES))
         a, b, c, d = self.crank, self.coupler, self.rocker, self.ground
         if ops.is_symbolic(a, b, c, d):
             return
+        if not all(type(x) is float for x in (a, b, c, d)):
+            validate.broadcast(crank=a, coupler=b, rocker=c, ground=d)
         if self.full_turn:
             fail_where(
                 np.asarray(a + d) >= b + c,
@@ -183,7 +194,7 @@ class FourBar(Mechanism):
     def grashof(self) -> Grashof:
         """Grashof classification with its margin (single designs only)."""
         if np.ndim(self.crank) or ops.is_symbolic(self.crank):
-            raise ValueError(
+            raise MechanismError(
                 "grashof classifies one numeric design; use grashof_margin for batches"
             )
         return grashof(self.crank, self.coupler, self.rocker, self.ground)
@@ -230,6 +241,7 @@ class FourBar(Mechanism):
         """
         omega, eps = speed_pair(speed, epsilon)
         phi = as_angles(phi)
+        guard_motion((self.crank, self.coupler, self.rocker, self.ground), phi)
         a, b, coupler, rocker = self.jets(phi)
         crank_jet = Jet(phi + 0.0 * a.x, 1.0 + 0.0 * a.x, 0.0 * a.x)
         o1 = PointJet.fixed(0.0 * a.x, 0.0 * a.x)

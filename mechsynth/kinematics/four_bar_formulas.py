@@ -80,7 +80,7 @@ _RTOL = 1e-12
 
 def _sigma(branch) -> float:
     if branch not in _SIGMA:
-        raise ValueError(f"branch must be 'open' or 'crossed', got {branch!r}")
+        raise MechanismError(f"branch must be 'open' or 'crossed', got {branch!r}")
     return _SIGMA[branch]
 
 

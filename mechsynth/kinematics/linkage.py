@@ -91,13 +91,13 @@ def _check_value(name, kind, value):
         return check_length(name, value)
     value = check_finite(name, value)
     if kind == "radius" and np.any(np.asarray(value) < 0.0):
-        raise ValueError(f"{name} must not be negative (a radius in m), got {value}")
+        raise MechanismError(f"{name} must not be negative (a radius in m), got {value}")
     return value
 
 
 def _branch(value, what):
     if value not in (1, -1):
-        raise ValueError(f"{what}: branch must be +1 or -1, got {value!r}")
+        raise MechanismError(f"{what}: branch must be +1 or -1, got {value!r}")
     return int(value)
 
 
@@ -264,16 +264,16 @@ class Linkage(Drawable):
         else:
             name, value = default_name, raw
         if not name.isidentifier():
-            raise ValueError(f"parameter name {name!r} must be an identifier")
+            raise MechanismError(f"parameter name {name!r} must be an identifier")
         if name in self._values:
-            raise ValueError(
+            raise MechanismError(
                 f"parameter {name!r} ({role}) is already {self._roles[name]}: name it with "
                 f"Param('...', value)"
             )
         if isinstance(value, bool) or not (
             isinstance(value, numbers.Real) or hasattr(value, "shape") or ops.is_symbolic(value)
         ):
-            raise ValueError(f"{role} ({name}) must be a number, got {value!r}")
+            raise MechanismError(f"{role} ({name}) must be a number, got {value!r}")
         self._values[name] = _check_value(name, kind, value)
         self._kinds[name] = kind
         self._roles[name] = role
@@ -284,28 +284,30 @@ class Linkage(Drawable):
         try:
             x, y = xy
         except (TypeError, ValueError):
-            raise ValueError(f"ground point {point!r}: expected (x, y), got {xy!r}") from None
+            raise MechanismError(f"ground point {point!r}: expected (x, y), got {xy!r}") from None
         xp = self._param(x, f"{point}_x", "coordinate", f"x of ground point {point}")
         yp = self._param(y, f"{point}_y", "coordinate", f"y of ground point {point}")
         self._ground = self._ground + ((point, xp, yp),)
 
     def _check_new_point(self, point):
         if not isinstance(point, str) or not point.isidentifier():
-            raise ValueError(f"a point name must be an identifier, got {point!r}")
+            raise MechanismError(f"a point name must be an identifier, got {point!r}")
         if point in self.points:
-            raise ValueError(f"point {point!r} exists already; points: {', '.join(self.points)}")
+            raise MechanismError(
+                f"point {point!r} exists already; points: {', '.join(self.points)}"
+            )
 
     def _known_point(self, point, what):
         if point not in self.points:
             known = ", ".join(self.points) or "none yet"
-            raise ValueError(f"{what}: unknown point {point!r}; known points: {known}")
+            raise MechanismError(f"{what}: unknown point {point!r}; known points: {known}")
         return point
 
     def _check_new_body(self, name):
         if not isinstance(name, str) or not name.isidentifier():
-            raise ValueError(f"a link name must be an identifier, got {name!r}")
+            raise MechanismError(f"a link name must be an identifier, got {name!r}")
         if name in self._bodies or name == FRAME:
-            raise ValueError(f"link {name!r} exists already; name it with link=...")
+            raise MechanismError(f"link {name!r} exists already; name it with link=...")
         return name
 
     def _free_body(self, name):
@@ -324,14 +326,14 @@ class Linkage(Drawable):
         """A body frame from ``on``: a body name, or a pair of points of one body."""
         if isinstance(on, str):
             if on not in self._bodies:
-                raise ValueError(
+                raise MechanismError(
                     f"{what}: unknown link {on!r}; links: {', '.join(self._bodies) or 'none'}"
                 )
             return Frame(on, self._bodies[on].base, None)
         try:
             p, q = on
         except (TypeError, ValueError):
-            raise ValueError(
+            raise MechanismError(
                 f"{what}: 'on' must be a link name or a pair of points (origin, axis point) of "
                 f"one link, got {on!r}"
             ) from None
@@ -340,7 +342,7 @@ class Linkage(Drawable):
         for name, pts in self._members.items():
             if p in pts and q in pts:
                 return Frame(name, p, q)
-        raise ValueError(
+        raise MechanismError(
             f"{what}: points {p!r} and {q!r} are not on one moving link "
             f"(links and their points: "
             + "; ".join(f"{k}: {', '.join(v)}" for k, v in self._members.items())
@@ -352,7 +354,7 @@ class Linkage(Drawable):
         try:
             through, angle = guide
         except (TypeError, ValueError):
-            raise ValueError(
+            raise MechanismError(
                 f"{what}: guide must be (through, angle): through (x, y), a ground point or a "
                 f"link (name or pair of its points); got {guide!r}"
             ) from None
@@ -369,9 +371,11 @@ class Linkage(Drawable):
             try:
                 gx, gy = through
             except (TypeError, ValueError):
-                raise ValueError(f"{what}: guide point must be (x, y), got {through!r}") from None
+                raise MechanismError(
+                    f"{what}: guide point must be (x, y), got {through!r}"
+                ) from None
             if offset is not None:
-                raise ValueError(
+                raise MechanismError(
                     f"{what}: offset applies to a guide through a named point; move the "
                     "coordinates instead"
                 )
@@ -412,7 +416,7 @@ class Linkage(Drawable):
         new._check_new_point(point)
         new._known_point(about, what)
         if new._owner[about] != FRAME:
-            raise ValueError(f"{what}: the crank turns about a ground point; {about!r} moves")
+            raise MechanismError(f"{what}: the crank turns about a ground point; {about!r} moves")
         link = new._check_new_body(link or f"{about}{point}")
         params = (
             ("length", new._param(length, f"{about}{point}", "length", f"length of crank {link}")),
@@ -429,7 +433,7 @@ class Linkage(Drawable):
     def _require_crank(self, what):
         """The driver (a crank or a driving slider) comes first."""
         if not self._groups or not isinstance(self._groups[0], CrankGroup | SliderDriverGroup):
-            raise ValueError(
+            raise MechanismError(
                 f"{what}: add the driver first, .crank(...) or .slider(...) (groups are solved "
                 "in order)"
             )
@@ -460,7 +464,7 @@ class Linkage(Drawable):
         link = new._check_new_body(link or point)
         g, gparams = new._guide(guide, offset, point, what)
         if g.frame is not None:
-            raise ValueError(
+            raise MechanismError(
                 f"{what}: the driving slider's guide must be fixed (coordinates or a ground point)"
             )
         return new._with(
@@ -513,7 +517,7 @@ class Linkage(Drawable):
     def with_travel(self, lo, hi) -> Linkage:
         """The same linkage with its driving slider covering the travel ``(lo, hi)`` (m)."""
         if self.driver != "slider":
-            raise ValueError(f"{self._name} is driven by a crank: it has no travel")
+            raise MechanismError(f"{self._name} is driven by a crank: it has no travel")
         from dataclasses import replace
 
         g = self._groups[0]
@@ -557,7 +561,7 @@ class Linkage(Drawable):
         new._known_point(p, what)
         new._known_point(q, what)
         if p == q:
-            raise ValueError(f"{what}: the two points must differ, got {p!r} twice")
+            raise MechanismError(f"{what}: the two points must differ, got {p!r} twice")
         n1, n2 = links if links is not None else (f"{p}{point}", f"{q}{point}")
         n1, n2 = new._check_new_body(n1), new._check_new_body(n2)
         params = (
@@ -633,7 +637,7 @@ class Linkage(Drawable):
         new._known_point(about, what)
         new._known_point(through, what)
         if about == through:
-            raise ValueError(f"{what}: about and through must differ, got {about!r} twice")
+            raise MechanismError(f"{what}: about and through must differ, got {about!r} twice")
         block = new._check_new_body(block or new._free_body(through))
         params = (
             ("offset", new._param(offset, f"{link}_offset", "offset", f"slot offset of {link}")),
@@ -703,7 +707,7 @@ class Linkage(Drawable):
                 f"{profile!r}"
             )
         if roller is not None and face is not None:
-            raise ValueError(f"{what}: give roller (a radius) or face (an angle), not both")
+            raise MechanismError(f"{what}: give roller (a radius) or face (an angle), not both")
         roller = 0.0 if roller is None else roller
         new = self._copy()
         new._check_new_point(point)
@@ -712,7 +716,9 @@ class Linkage(Drawable):
         slider = new._check_new_body(slider or new._free_body(point))
         g, gparams = new._guide(guide, offset, point, what)
         if g.frame is not None:
-            raise ValueError(f"{what}: a follower's guide must be fixed (coordinates or ground)")
+            raise MechanismError(
+                f"{what}: a follower's guide must be fixed (coordinates or ground)"
+            )
         params = list(gparams)
         for role, (raw, kind) in profile.roles.items():
             params.append(
@@ -757,7 +763,7 @@ class Linkage(Drawable):
         new = self._copy()
         for name, value in values.items():
             if name not in self._values:
-                raise ValueError(
+                raise MechanismError(
                     f"{self._name} has no parameter {name!r}; its parameters: "
                     + ", ".join(self._values)
                 )
@@ -770,14 +776,14 @@ class Linkage(Drawable):
         """The same linkage with parameters renamed: ``lk.rename(AB="coupler")``."""
         for old, nw in names.items():
             if old not in self._values:
-                raise ValueError(
+                raise MechanismError(
                     f"no parameter {old!r} to rename; parameters: {', '.join(self._values)}"
                 )
             if not isinstance(nw, str) or not nw.isidentifier():
-                raise ValueError(f"new name for {old!r} must be an identifier, got {nw!r}")
+                raise MechanismError(f"new name for {old!r} must be an identifier, got {nw!r}")
         order = [names.get(k, k) for k in self._values]
         if len(set(order)) != len(order):
-            raise ValueError(f"renaming {names} would give two parameters the same name")
+            raise MechanismError(f"renaming {names} would give two parameters the same name")
         new = self._copy()
         new._values = {names.get(k, k): v for k, v in self._values.items()}
         new._kinds = {names.get(k, k): v for k, v in self._kinds.items()}
@@ -852,7 +858,7 @@ class Linkage(Drawable):
             new = g.new_point()
             if new is not None:
                 return new[0]
-        raise ValueError("the linkage has no moving point yet: add a crank")
+        raise MechanismError("the linkage has no moving point yet: add a crank")
 
     @property
     def assembly_conditions(self) -> tuple[str, ...]:
@@ -886,7 +892,7 @@ class Linkage(Drawable):
     def unit_of(self, name: str) -> str:
         """SI unit of the parameter ``name``: ``"rad"`` for angles, ``"m"`` for the others."""
         if name not in self._kinds:
-            raise ValueError(f"{self._name} has no parameter {name!r}")
+            raise MechanismError(f"{self._name} has no parameter {name!r}")
         return "rad" if self._kinds[name] == "angle" else "m"
 
     # ------------------------------------------------------------------ drawing
@@ -899,7 +905,7 @@ class Linkage(Drawable):
         from .sketch import Bar, Outline, Sketch, Slider, as_frames
 
         if options:
-            raise ValueError(f"unknown drawing option(s): {', '.join(sorted(options))}")
+            raise MechanismError(f"unknown drawing option(s): {', '.join(sorted(options))}")
         phi = np.atleast_1d(np.asarray(phi, dtype=float))
         m = self.motion(phi)
         topo = self.topology()
@@ -960,7 +966,7 @@ class Linkage(Drawable):
     # ------------------------------------------------------------------ solving
     def _solve(self, phi, strict=True) -> _State:
         if not self._groups:
-            raise ValueError(
+            raise MechanismError(
                 f"{self._name} has no driver: add one with .crank(...) or .slider(...)"
             )
         v = self._values
@@ -1053,9 +1059,9 @@ class Linkage(Drawable):
             try:
                 phi = np.asarray(phi, dtype=float) if np.ndim(phi) else float(phi)
             except (TypeError, ValueError):
-                raise ValueError(f"phi must be {self._input_words()}, got {phi!r}") from None
+                raise MechanismError(f"phi must be {self._input_words()}, got {phi!r}") from None
             if not np.all(np.isfinite(phi)):
-                raise ValueError(f"phi must be finite {self._input_words()}")
+                raise MechanismError(f"phi must be finite {self._input_words()}")
         st = self._solve(phi)
         crank_key = self._groups[0].key
         zero = 0.0 * st.points[crank_key].x
@@ -1154,7 +1160,7 @@ class Linkage(Drawable):
             return st.sliders[of]
         if of in st.links:
             return st.links[of]
-        raise ValueError(f"{of!r} is neither a slider nor a link of {self._name}")
+        raise MechanismError(f"{of!r} is neither a slider nor a link of {self._name}")
 
     def _stroke_output(self) -> str:
         """The slider or link whose strokes the time ratio compares (of the default output)."""
@@ -1167,7 +1173,7 @@ class Linkage(Drawable):
             return g.key
         if isinstance(g, AttachGroup):
             return g.frame.body
-        raise ValueError(
+        raise MechanismError(
             f"the output {self.default_output!r} of {self._name} has no strokes (the crank)"
         )
 
@@ -1374,7 +1380,7 @@ def _pair(value, what, role):
     try:
         p, length = value
     except (TypeError, ValueError):
-        raise ValueError(f"{what}: {role} must be (point, length), got {value!r}") from None
+        raise MechanismError(f"{what}: {role} must be (point, length), got {value!r}") from None
     if not isinstance(p, str):
-        raise ValueError(f"{what}: {role} must be (point name, length), got {value!r}")
+        raise MechanismError(f"{what}: {role} must be (point name, length), got {value!r}")
     return p, length

@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import MechanismError
 from . import ops
 from .blocks import (
     cam_contact,
@@ -64,7 +65,7 @@ class Param:
 
     def __post_init__(self):
         if not isinstance(self.name, str) or not self.name.isidentifier():
-            raise ValueError(
+            raise MechanismError(
                 f"a parameter name must be an identifier (letters, digits, _), got {self.name!r}"
             )
 

@@ -9,11 +9,11 @@ optimizer). Numeric parameters are validated on construction; symbolic ones are 
 from __future__ import annotations
 
 import dataclasses
-import math
 from typing import Any, ClassVar
 
 import numpy as np
 
+from .. import validate
 from ..errors import MechanismError
 from . import ops
 from .tracks import Motion
@@ -27,6 +27,7 @@ __all__ = [
     "as_angles",
     "input_grid",
     "input_domain",
+    "guard_motion",
 ]
 
 
@@ -59,54 +60,51 @@ def _first_bad(arr, bad):
 
 
 def check_finite(name: str, value):
-    """Return ``value`` (float or float array) or raise ValueError if any entry is not finite."""
-    if type(value) is float and math.isfinite(value):  # the common case, without numpy
-        return value
-    if ops.is_symbolic(value):
-        return value
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name} must be a number, got {value!r}") from exc
-    bad = ~np.isfinite(arr)
-    if np.any(bad):
-        v, at = _first_bad(arr, bad)
-        raise ValueError(f"{name} must be finite, got {v}{at}")
-    return float(arr) if arr.ndim == 0 else arr
+    """Return ``value`` (float or float array) or raise MechanismError (a ValueError) if it is
+    not a finite real number or array of them (strings, booleans, complex numbers and empty
+    arrays are refused; see :mod:`mechsynth.validate`)."""
+    return validate.real(name, value)
 
 
 def check_length(name: str, value):
-    """Return ``value`` or raise ValueError if any entry is not finite and strictly positive."""
-    value = check_finite(name, value)
-    if type(value) is float and value > 0.0:
-        return value
-    if ops.is_symbolic(value):
-        return value
-    arr = np.asarray(value)
-    bad = arr <= 0.0
-    if np.any(bad):
-        v, at = _first_bad(arr, bad)
-        raise ValueError(f"{name} must be positive (a length in m), got {v}{at}")
-    return value
+    """Return ``value`` or raise MechanismError (a ValueError) if any entry is not finite and
+    strictly positive."""
+    return validate.length(name, value)
 
 
 def as_angles(phi):
     """Crank angles as a float array (or number, or CasADi expression): any array-like works,
-    a list, a tuple, a ``range``."""
-    if ops.is_symbolic(phi) or isinstance(phi, (float, np.ndarray)):
+    a list, a tuple, a ``range``. NaN and infinite angles are refused (MechanismError)."""
+    if ops.is_symbolic(phi):
         return phi
-    try:
-        arr = np.asarray(phi, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"crank angles must be numbers (rad), got {phi!r}") from exc
-    return float(arr) if arr.ndim == 0 else arr
+    return validate.angles(phi)
+
+
+#: how many (designs x angles) arrays a named mechanism's motion holds at its peak
+MOTION_ARRAYS = 64
+
+
+def guard_motion(params, phi, arrays: int = MOTION_ARRAYS):
+    """Refuse, before computing, a motion of so many designs x angles that its working arrays
+    (about ``arrays`` of them) would exceed :data:`mechsynth.validate.MAX_BYTES`. O(parameters)
+    work: the product of the sizes bounds the broadcast size."""
+    n = phi.size if isinstance(phi, np.ndarray) else 1
+    for v in params:
+        if isinstance(v, np.ndarray):
+            n *= v.size
+    if n * arrays * 8 > validate.MAX_BYTES:
+        shape = validate.broadcast(phi=phi, **{f"p{i}": v for i, v in enumerate(params)})
+        validate.check_size(
+            f"a motion over {int(np.prod(shape))} designs x angles",
+            arrays * float(np.prod(shape)),
+        )
 
 
 def speed_pair(speed, epsilon):
     """(omega, epsilon) for a motion: analogs (1, 0) when ``speed`` is None."""
     if speed is None:
         if not ops.is_symbolic(epsilon) and np.any(np.asarray(epsilon) != 0.0):
-            raise ValueError("epsilon (crank angular acceleration) needs a speed")
+            raise MechanismError("epsilon (crank angular acceleration) needs a speed")
         return 1.0, 0.0
     if not ops.is_symbolic(speed):
         speed = check_finite("speed", speed)
@@ -165,7 +163,7 @@ class Drawable:
 
         phi = as_angles(phi)
         if np.ndim(phi):
-            raise ValueError(f"draw takes one crank angle (rad), got shape {np.shape(phi)}")
+            raise MechanismError(f"draw takes one crank angle (rad), got shape {np.shape(phi)}")
         try:
             return self.sketch(np.concatenate([[phi], phi + self.turn(n)]), **options)
         except MechanismError:
@@ -225,7 +223,7 @@ class Drawable:
 
         angles = self.turn(int(frames)) if angles is None else np.atleast_1d(as_angles(angles))
         if np.asarray(angles).size < 2:
-            raise ValueError("animate needs at least two crank angles")
+            raise MechanismError("animate needs at least two crank angles")
         sk = self.sketch(np.asarray(angles, dtype=float), **options)
         trace = self.trace_points if trace is None else tuple(trace)
         return animate_sketch(

@@ -16,6 +16,8 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import MechanismError
+
 __all__ = ["Bar", "Slider", "Outline", "Sketch"]
 
 
@@ -98,28 +100,28 @@ class Sketch:
         for k, (x, y) in self.points.items():
             x, y = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
             if x.ndim != 1:
-                raise ValueError(
+                raise MechanismError(
                     f"sketch point {k!r}: expected one position per frame (1-D), got shape "
                     f"{x.shape}; draw one design at a time"
                 )
             pts[k] = (x, y)
             n = x.size if n is None else n
         if n is None:
-            raise ValueError("a sketch needs at least one point")
+            raise MechanismError("a sketch needs at least one point")
         pts = {k: (np.broadcast_to(x, (n,)), np.broadcast_to(y, (n,))) for k, (x, y) in pts.items()}
         object.__setattr__(self, "points", pts)
         names = set(pts)
         for bar in self.bars:
             missing = [p for p in bar.points if p not in names]
             if missing:
-                raise ValueError(f"bar {bar.name!r} names unknown points {missing}")
+                raise MechanismError(f"bar {bar.name!r} names unknown points {missing}")
         for s in self.sliders:
             for p in (s.point, s.through):
                 if p is not None and p not in names:
-                    raise ValueError(f"slider at {s.point!r} names the unknown point {p!r}")
+                    raise MechanismError(f"slider at {s.point!r} names the unknown point {p!r}")
         for g in (*self.ground, *(self.labels or ()), *(self.joints or ())):
             if g not in names:
-                raise ValueError(f"{g!r} is not a point of the sketch")
+                raise MechanismError(f"{g!r} is not a point of the sketch")
         if self.angles is None:
             object.__setattr__(self, "angles", np.zeros(n))
 

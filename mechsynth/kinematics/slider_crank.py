@@ -15,6 +15,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from .. import validate
 from . import ops
 from .blocks import coupler_point, crank_pin, dyad_rrp
 from .mechanism import (
@@ -23,6 +24,7 @@ from .mechanism import (
     check_finite,
     check_length,
     fail_where,
+    guard_motion,
     speed_pair,
 )
 from .tracks import Jet, LinkTrack, Motion, PointJet, PointTrack, SliderTrack
@@ -77,6 +79,8 @@ class SliderCrank(Mechanism):
         object.__setattr__(self, "offset", check_finite("offset", self.offset))
         a, b, e = self.crank, self.rod, self.offset
         if not ops.is_symbolic(a, b, e):
+            if type(a) is not float or type(b) is not float or type(e) is not float:
+                validate.broadcast(crank=a, rod=b, offset=e)
             reach = a + np.abs(e)
             fail_where(
                 np.asarray(b) <= reach,
@@ -124,6 +128,7 @@ class SliderCrank(Mechanism):
         """
         omega, eps = speed_pair(speed, epsilon)
         phi = as_angles(phi)
+        guard_motion((self.crank, self.rod, self.offset), phi)
         a, b, s, rod = self.jets(phi)
         crank_jet = Jet(phi + 0.0 * self.crank, 1.0 + 0.0 * a.x, 0.0 * a.x)
         points = {"O": PointJet.fixed(0.0 * a.x, 0.0 * a.x), "A": a, "B": b}
@@ -178,15 +183,30 @@ class SliderCrank(Mechanism):
 
     @property
     def dead_centre_positions(self):
-        """Slider positions (m) at the outer and inner dead centres."""
+        """Slider positions (m) at the outer and inner dead centres:
+        ``sqrt((rod +- crank)^2 - offset^2)``, evaluated as ``(rod +- crank) * sqrt(1 - u^2)``
+        with ``u = offset / (rod +- crank)`` so that no square overflows."""
         a, b, e = self.crank, self.rod, self.offset
-        return ops.sqrt((a + b) ** 2 - e * e), ops.sqrt((b - a) ** 2 - e * e)
+        far, near = b + a, b - a
+        return (
+            far * ops.sqrt(1.0 - (e / far) ** 2),
+            near * ops.sqrt(1.0 - (e / near) ** 2),
+        )
 
     @property
     def stroke(self):
-        """Slider stroke (m) between the dead centres."""
-        outer, inner = self.dead_centre_positions
-        return outer - inner
+        """Slider stroke (m) between the dead centres.
+
+        ``x_outer - x_inner = 4 crank rod / (x_outer + x_inner)`` divided through by the rod:
+        ``4 crank / ((1 + r) sqrt(1 - u^2) + (1 - r) sqrt(1 - v^2))`` with ``r = crank / rod``,
+        ``u = offset / (rod + crank)``, ``v = offset / (rod - crank)``. Free of the cancellation
+        of the plain difference, which loses every digit once rod/crank passes 1e8 (a
+        ``SliderCrank(crank=0.75, rod=1e16)`` has a stroke of 1.5 m, not 0).
+        """
+        a, b, e = self.crank, self.rod, self.offset
+        r = a / b
+        u, v = e / (b + a), e / (b - a)
+        return 4.0 * a / ((1.0 + r) * ops.sqrt(1.0 - u * u) + (1.0 - r) * ops.sqrt(1.0 - v * v))
 
     @property
     def crank_spans(self):

@@ -19,6 +19,8 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import MechanismError
+
 __all__ = [
     "X",
     "Y",
@@ -77,7 +79,7 @@ def unit(a) -> np.ndarray:
     a = np.asarray(a, dtype=float)
     n = norm(a)
     if np.any(n == 0.0):
-        raise ValueError("unit: zero vector has no direction")
+        raise MechanismError("unit: zero vector has no direction")
     return a / n[..., None]
 
 

@@ -18,6 +18,7 @@ from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
 
+from ..errors import MechanismError
 from . import ops
 
 __all__ = ["Jet", "PointJet", "PointTrack", "LinkTrack", "SliderTrack", "Motion", "to_time"]
@@ -166,7 +167,11 @@ class Motion:
     def slider(self) -> SliderTrack:
         """The mechanism's main slider (the first one)."""
         if not self.sliders:
-            raise AttributeError("this mechanism has no slider")
+            from ..errors import UsageError
+
+            raise UsageError(
+                "this mechanism has no slider; its points: " + ", ".join(sorted(self.points))
+            )
         return next(iter(self.sliders.values()))
 
     @property
@@ -278,7 +283,7 @@ class Motion:
         for name in quantities:
             if name == "slider" or name in self.sliders:
                 if not self.sliders:
-                    raise ValueError(
+                    raise MechanismError(
                         "this mechanism has no slider; plot a link "
                         f"({', '.join(self.links)}) or a point ({', '.join(self.points)})"
                     )
@@ -308,7 +313,9 @@ class Motion:
                 heads.append(("position", "speed |v|", "acceleration |a|"))
             else:
                 known = [*self.sliders, *self.links, *self.points]
-                raise ValueError(f"unknown quantity {name!r}; this motion has {', '.join(known)}")
+                raise MechanismError(
+                    f"unknown quantity {name!r}; this motion has {', '.join(known)}"
+                )
             for k, (axis, items) in enumerate(zip(axes, series)):
                 for i, (label, unit, y) in enumerate(items):
                     yv, shown = display.convert(np.asarray(y, dtype=float), unit)

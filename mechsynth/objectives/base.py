@@ -33,6 +33,7 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import MechanismError
 from ..kinematics import ops
 
 __all__ = ["Measure", "CycleMeasure", "ScalarMeasure", "Combination", "Constraint", "reduce_cycle"]
@@ -52,7 +53,7 @@ def reduce_cycle(values, how: str):
             return ca.sum1(values) / n
         if how == "rms":
             return ca.sqrt(ca.sum1(values * values) / n)
-        raise ValueError(f"unknown reduction {how!r}")
+        raise MechanismError(f"unknown reduction {how!r}")
     values = np.asarray(values, dtype=float)
     if how == "max":
         return values.max(axis=-1)
@@ -62,7 +63,7 @@ def reduce_cycle(values, how: str):
         return values.mean(axis=-1)
     if how == "rms":
         return np.sqrt(np.mean(values * values, axis=-1))
-    raise ValueError(f"unknown reduction {how!r}")
+    raise MechanismError(f"unknown reduction {how!r}")
 
 
 class Measure:
@@ -156,11 +157,11 @@ class CycleMeasure(Measure):
         outer: str | None = None,
     ):
         if reduce not in ("max", "min", "mean", "rms"):
-            raise ValueError(f"reduce must be max, min, mean or rms, got {reduce!r}")
+            raise MechanismError(f"reduce must be max, min, mean or rms, got {reduce!r}")
         if outer not in (None, "sqrt"):
-            raise ValueError(f"outer must be None or 'sqrt', got {outer!r}")
+            raise MechanismError(f"outer must be None or 'sqrt', got {outer!r}")
         if outer is not None and reduce != "max":
-            raise ValueError("outer='sqrt' needs reduce='max'")
+            raise MechanismError("outer='sqrt' needs reduce='max'")
         self.name, self.per_angle, self.reduce, self.unit = name, per_angle, reduce, unit
         self._branches, self.outer = branches, outer
 
@@ -280,7 +281,7 @@ class Constraint:
 
     def __post_init__(self):
         if self.op not in ("<=", ">=", "=="):
-            raise ValueError(f"constraint operator must be <=, >= or ==, got {self.op!r}")
+            raise MechanismError(f"constraint operator must be <=, >= or ==, got {self.op!r}")
         object.__setattr__(self, "bound", float(self.bound))
 
     @property

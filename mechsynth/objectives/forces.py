@@ -16,6 +16,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from ..dynamics.kinetostatics import kinetostatics
+from ..errors import MechanismError
 from ..kinematics import ops
 from .base import CycleMeasure
 
@@ -37,7 +38,7 @@ def _model_of(model):
 def _joints(joints) -> tuple[str, ...]:
     joints = (joints,) if isinstance(joints, str) else tuple(joints)
     if not joints:
-        raise ValueError("joints: name at least one joint")
+        raise MechanismError("joints: name at least one joint")
     return joints
 
 
@@ -140,5 +141,5 @@ def reaction_affine_map(
     xc = x0 + 1.7 * h
     dev = np.max(np.abs(A @ xc + b - func(xc)))
     if dev > 1e-8 * (np.max(np.abs(y0)) + 1.0):
-        raise ValueError(f"the reactions are not affine in x (deviation {dev:.3g} N)")
+        raise MechanismError(f"the reactions are not affine in x (deviation {dev:.3g} N)")
     return A, b, np.tile(phi, len(joints))

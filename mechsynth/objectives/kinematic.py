@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import UsageError
 from ..kinematics import ops
 from .base import Combination, CycleMeasure, Measure, ScalarMeasure
 
@@ -58,7 +59,7 @@ def _cls(target):
 def _resolve(mechanism, motion, point):
     """``("slider", track)`` or ``("point", track)`` for an output name."""
     name = point if point is not None else getattr(mechanism, "default_output", "slider")
-    if name == "slider":
+    if name == "slider" and motion.sliders:
         return "slider", motion.slider
     if name in motion.points:
         return "point", motion.points[name]
@@ -67,7 +68,7 @@ def _resolve(mechanism, motion, point):
     known = sorted(
         set(motion.points) | set(motion.sliders) | ({"slider"} if motion.sliders else set())
     )
-    raise ValueError(f"unknown output {name!r}; this mechanism has {', '.join(known)}")
+    raise UsageError(f"unknown output {name!r}; this mechanism has {', '.join(known)}")
 
 
 def _label(point) -> str:
@@ -81,7 +82,7 @@ def _signed_or_vector(kind: str, point, direction):
         what, tr = _resolve(mechanism, motion, point)
         if what == "slider":
             if direction is not None:
-                raise ValueError("direction applies to points, not to a slider (already 1-D)")
+                raise UsageError("direction applies to points, not to a slider (already 1-D)")
             return tr.velocity if kind == "v" else tr.acceleration
         if direction is None:
             return None
@@ -145,7 +146,7 @@ def _check_direction(direction):
         return direction
     d = float(direction)
     if not np.isfinite(d):
-        raise ValueError(f"direction must be a finite angle in rad, got {direction!r}")
+        raise UsageError(f"direction must be a finite angle in rad, got {direction!r}")
     return d
 
 
@@ -181,7 +182,7 @@ def peak_acceleration(point=None, direction=None) -> CycleMeasure:
 
 def _link(motion, link):
     if link not in motion.links:
-        raise ValueError(f"unknown link {link!r}; this mechanism has {', '.join(motion.links)}")
+        raise UsageError(f"unknown link {link!r}; this mechanism has {', '.join(motion.links)}")
     return motion.links[link]
 
 
@@ -220,12 +221,12 @@ def _group_angle(motion, group, table, what):
     if group is None:
         value = motion.pressure_angle if table == "pressure" else motion.transmission_angle
         if value is None:
-            raise ValueError(f"this mechanism defines no {what}")
+            raise UsageError(f"this mechanism defines no {what}")
         return value
     angles = motion.pressure_angles if table == "pressure" else motion.transmission_angles
     if group not in angles:
         known = ", ".join(angles) or "none (name no group for a named mechanism)"
-        raise ValueError(f"no {what} of group {group!r}; groups with one: {known}")
+        raise UsageError(f"no {what} of group {group!r}; groups with one: {known}")
     return angles[group]
 
 
@@ -276,9 +277,9 @@ def assembly_margin(condition) -> CycleMeasure:
     def per_angle(mechanism, motion):
         margins = motion.extra.get("assembly margins")
         if margins is None:
-            raise ValueError("this mechanism reports no assembly margins (a Linkage does)")
+            raise UsageError("this mechanism reports no assembly margins (a Linkage does)")
         if condition not in margins:
-            raise ValueError(
+            raise UsageError(
                 f"no assembly condition {condition!r}; conditions: {', '.join(margins)}"
             )
         return margins[condition]
@@ -371,7 +372,7 @@ class _TimeRatio(Measure):
 
     def bind(self, mechanism_class):
         if not isinstance(getattr(_cls(mechanism_class), "crank_spans", None), property):
-            raise ValueError(f"{mechanism_class.__name__} has no time ratio (no crank_spans)")
+            raise UsageError(f"{mechanism_class.__name__} has no time ratio (no crank_spans)")
 
         def fn(mech):
             return mech.time_ratio
@@ -407,7 +408,7 @@ def _grashof_margin(mech):
         return p["rod"] - p["crank"] - ops.fabs(p["offset"])
     margin = getattr(mech, "grashof_margin", None)
     if margin is None:
-        raise ValueError(f"{type(mech).__name__} defines no Grashof margin")
+        raise UsageError(f"{type(mech).__name__} defines no Grashof margin")
     return margin
 
 

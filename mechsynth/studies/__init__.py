@@ -9,6 +9,7 @@ from __future__ import annotations
 import importlib
 from pathlib import Path
 
+from ..errors import MechanismError
 from ..report import StudyResult
 
 __all__ = ["StudyResult", "STUDIES", "get_study", "run_study"]
@@ -46,7 +47,7 @@ def get_study(name: str):
     """The study module registered as ``name``."""
     if name not in STUDIES:
         known = ", ".join(sorted(STUDIES))
-        raise ValueError(f"unknown study {name!r}; known studies: {known}")
+        raise MechanismError(f"unknown study {name!r}; known studies: {known}")
     return importlib.import_module(STUDIES[name][0])
 
 

@@ -30,6 +30,7 @@ from pathlib import Path
 import numba
 import numpy as np
 
+from ..errors import MechanismError
 from ..machines.dwell import DwellSliderCrank
 from ..machines.dwell.metrics import dwell_metrics, dwell_window
 from ..options import Option, takes_options
@@ -52,7 +53,7 @@ _NEIGHBOURS = _NEIGHBOURS[np.any(_NEIGHBOURS != 0.0, axis=1)]
 def _check_positive(name, value):
     value = float(value)
     if not np.isfinite(value) or value <= 0:
-        raise ValueError(f"{name} must be positive, got {value}")
+        raise MechanismError(f"{name} must be positive, got {value}")
     return value
 
 
@@ -60,7 +61,7 @@ def _check_counts(name, value, minimum):
     """Grid points per axis: an int for all three axes or three ints (r, k, gamma)."""
     counts = np.broadcast_to(np.asarray(value, dtype=int), (3,))
     if np.any(counts < minimum):
-        raise ValueError(f"{name} (grid points per axis) must be >= {minimum}, got {value}")
+        raise MechanismError(f"{name} (grid points per axis) must be >= {minimum}, got {value}")
     return tuple(int(c) for c in counts)
 
 
@@ -108,7 +109,7 @@ def _numba_threads(workers):
     threads instead would need a thread-safe numba threading layer."""
     workers = int(workers)
     if workers < 1:
-        raise ValueError(f"workers must be >= 1, got {workers}")
+        raise MechanismError(f"workers must be >= 1, got {workers}")
     before = numba.get_num_threads()
     numba.set_num_threads(min(workers, numba.config.NUMBA_NUM_THREADS))
     try:
@@ -319,7 +320,7 @@ def certify(
     local = _check_counts("local", local, 2)[0]
     centre = np.array([r, k, gamma_deg], dtype=float)
     if not np.all((centre >= LOWER) & (centre <= UPPER)):
-        raise ValueError(f"design (r, k, gamma_deg) = {tuple(centre)} is outside the box")
+        raise MechanismError(f"design (r, k, gamma_deg) = {tuple(centre)} is outside the box")
     half = (UPPER - LOWER) / (np.array(dense) - 1)
     pts = np.concatenate(
         [
@@ -456,18 +457,45 @@ def _line(d):
 
 
 @takes_options(
-    Option("tolerance", 0.002, "half-width E of the dwell band, relative to the rod",
-           minimum=0.0, exclusive=True, maximum=1.0),
-    Option("stroke", 0.3, "minimum stroke S_max, relative to the rod", minimum=0.0,
-           exclusive=True, maximum=10.0),
-    Option("n", (16, 23, 25), "global grid points on r, k, gamma (one value: all three)",
-           minimum=2, maximum=200),
+    Option(
+        "tolerance",
+        0.002,
+        "half-width E of the dwell band, relative to the rod",
+        minimum=0.0,
+        exclusive=True,
+        maximum=1.0,
+    ),
+    Option(
+        "stroke",
+        0.3,
+        "minimum stroke S_max, relative to the rod",
+        minimum=0.0,
+        exclusive=True,
+        maximum=10.0,
+    ),
+    Option(
+        "n",
+        (16, 23, 25),
+        "global grid points on r, k, gamma (one value: all three)",
+        minimum=2,
+        maximum=200,
+    ),
     Option("starts", 6, "distinct grid designs refined at 720 angles", minimum=1, maximum=1000),
-    Option("dense", (13, 17, 25), "certificate's box grid on r, k, gamma (one value: all three)",
-           minimum=2, maximum=200),
+    Option(
+        "dense",
+        (13, 17, 25),
+        "certificate's box grid on r, k, gamma (one value: all three)",
+        minimum=2,
+        maximum=200,
+    ),
     Option("local", 9, "points per axis of the certificate's local grid", minimum=2, maximum=101),
-    Option("min_scale", 1 / 64, "refinement stops below this fraction of a grid half-cell",
-           minimum=1e-4, maximum=1.0),
+    Option(
+        "min_scale",
+        1 / 64,
+        "refinement stops below this fraction of a grid half-cell",
+        minimum=1e-4,
+        maximum=1.0,
+    ),
     Option("workers", 2, "threads for the batch evaluations", minimum=1, maximum=256),
     owner="study 'dwell'",
 )
@@ -504,7 +532,7 @@ def run(
     stroke = _check_positive("stroke", stroke)
     n = _check_counts("n", n, 2)
     if int(starts) < 1:
-        raise ValueError(f"starts must be >= 1, got {starts}")
+        raise MechanismError(f"starts must be >= 1, got {starts}")
     names = ["1. global grid", "2. refinement", "3. certificate"]
     if out is not None:
         names.append("figure and animation")

@@ -102,8 +102,15 @@ STAGES = (
 
 @takes_options(
     Option("angles", 1440, "crank positions per turn", minimum=36, maximum=100_000),
-    Option("scan_step", 0.5, "step of the slider-mass scan", unit="kg", minimum=0.0,
-           exclusive=True, maximum=50.0),
+    Option(
+        "scan_step",
+        0.5,
+        "step of the slider-mass scan",
+        unit="kg",
+        minimum=0.0,
+        exclusive=True,
+        maximum=50.0,
+    ),
     owner="study 'nail-header'",
 )
 def run(out=None, angles=1440, scan_step=0.5):

@@ -44,6 +44,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import MechanismError
 from ..machines.pumping_unit import BeamPumpingUnit, DynamometerCard, optimal_counterbalance
 from ..machines.pumping_unit.paper002 import ERRATA, angle_between_pitmans, paper_bending_moment
 from ..machines.pumping_unit.rod_string import RodString, wave_equation_card
@@ -165,7 +166,7 @@ def _deviations(options) -> dict[str, float]:
     for opt, (dev, factor) in OPTION_UNITS.items():
         v = float(options[opt])
         if not np.isfinite(v):
-            raise ValueError(f"option {opt} must be finite, got {v}")
+            raise MechanismError(f"option {opt} must be finite, got {v}")
         out[dev] = v * factor
     return out
 
@@ -197,14 +198,28 @@ def _paper_comparison(theta, rev, rat, dead):
 
 @takes_options(
     Option("n_angles", 360, "crank angles of the cycle", minimum=3, maximum=100_000),
-    Option("spm", 6.0, "pumping speed", unit="strokes/min", minimum=0.0, exclusive=True,
-           maximum=60.0),
-    Option("card", "", 'dynamometer card CSV (position m, load N); "": the bundled card',
-           kind="path"),
-    Option("crank_spacing", 1.2, "spacing of the two crank arms along the shaft", unit="m",
-           minimum=0.0, exclusive=True),
-    Option("equalizer_width", 1.2, "width of the equalizer between the pitmans", unit="m",
-           minimum=0.0, exclusive=True),
+    Option(
+        "spm", 6.0, "pumping speed", unit="strokes/min", minimum=0.0, exclusive=True, maximum=60.0
+    ),
+    Option(
+        "card", "", 'dynamometer card CSV (position m, load N); "": the bundled card', kind="path"
+    ),
+    Option(
+        "crank_spacing",
+        1.2,
+        "spacing of the two crank arms along the shaft",
+        unit="m",
+        minimum=0.0,
+        exclusive=True,
+    ),
+    Option(
+        "equalizer_width",
+        1.2,
+        "width of the equalizer between the pitmans",
+        unit="m",
+        minimum=0.0,
+        exclusive=True,
+    ),
     Option("phase_mismatch_deg", 0.25, "phase mismatch of the crank arms", unit="deg"),
     Option("crank_difference_mm", 1.0, "difference of the crank radii", unit="mm"),
     Option("pitman_difference_mm", 2.0, "difference of the pitman lengths", unit="mm"),
@@ -214,15 +229,22 @@ def _paper_comparison(theta, rev, rat, dead):
     Option("beam_skew_mrad", 0.5, "skew of the beam's axis", unit="mrad"),
     Option("equalizer_offset_mm", 2.0, "offset of the equalizer's bearing", unit="mm"),
     Option("limit", 0.05, "tolerated pitman load split (fraction)"),
-    Option("sweep_angles", 90, "crank angles of the deviation sweeps", minimum=3,
-           maximum=100_000),
+    Option("sweep_angles", 90, "crank angles of the deviation sweeps", minimum=3, maximum=100_000),
     Option("sweep_points", 6, "points per deviation sweep", minimum=3, maximum=1000),
     Option("chart_points", 9, "points per axis of the tolerance chart", minimum=3, maximum=200),
     Option("design_points", 6, "points per axis of the design chart", minimum=3, maximum=200),
-    Option("stiffness_factors", (0.5, 1.0, 2.0, 4.0),
-           "multiples of the pitmans' bending stiffness in the design chart"),
-    Option("sizing_angles", 120, "crank angles of the counterbalance sizing", minimum=3,
-           maximum=100_000),
+    Option(
+        "stiffness_factors",
+        (0.5, 1.0, 2.0, 4.0),
+        "multiples of the pitmans' bending stiffness in the design chart",
+    ),
+    Option(
+        "sizing_angles",
+        120,
+        "crank angles of the counterbalance sizing",
+        minimum=3,
+        maximum=100_000,
+    ),
     owner="study 'spatial-pump'",
 )
 def run(
@@ -263,13 +285,13 @@ def run(
         "sizing_angles",
     ):
         if int(options[name]) < 3:
-            raise ValueError(f"option {name} must be at least 3, got {options[name]}")
+            raise MechanismError(f"option {name} must be at least 3, got {options[name]}")
     if not 0.0 < float(limit) < 1.0:
-        raise ValueError(f"option limit must be a fraction in (0, 1), got {limit}")
+        raise MechanismError(f"option limit must be a fraction in (0, 1), got {limit}")
     if not float(spm) > 0.0:
-        raise ValueError(f"option spm must be positive, got {spm}")
+        raise MechanismError(f"option spm must be positive, got {spm}")
     if not np.all(np.asarray(stiffness_factors, dtype=float) > 0.0):
-        raise ValueError(f"option stiffness_factors must be positive, got {stiffness_factors}")
+        raise MechanismError(f"option stiffness_factors must be positive, got {stiffness_factors}")
     dev = _deviations(options)
     speed = spm_to_rad(float(spm))
     theta = np.linspace(0.0, 2.0 * np.pi, int(n_angles), endpoint=False)
@@ -278,7 +300,7 @@ def run(
     if card:
         path = Path(card)
         if not path.is_file():
-            raise ValueError(f"card file {card!r} not found")
+            raise MechanismError(f"card file {card!r} not found")
         load = DynamometerCard.from_csv(path)
         card_source = str(path)
     else:

@@ -40,6 +40,7 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import MechanismError
 from ..units import cycle
 
 __all__ = ["AffineMap", "ConvexResult", "affine_map", "minimax_affine", "minimax_cycle"]
@@ -68,18 +69,18 @@ class AffineMap:
         A = np.asarray(self.A, dtype=float)
         b = np.asarray(self.b, dtype=float)
         if A.ndim not in (2, 3) or b.shape != A.shape[:-1]:
-            raise ValueError(
+            raise MechanismError(
                 f"A must have shape (m, n) or (m, d, n) and b shape A.shape[:-1]; got A "
                 f"{A.shape}, b {b.shape}"
             )
         if not (np.all(np.isfinite(A)) and np.all(np.isfinite(b))):
-            raise ValueError("A and b must be finite")
+            raise MechanismError("A and b must be finite")
         object.__setattr__(self, "A", A)
         object.__setattr__(self, "b", b)
         if self.phi is not None:
             phi = np.asarray(self.phi, dtype=float).ravel()
             if phi.size != A.shape[0]:
-                raise ValueError(f"phi has {phi.size} angles but A has {A.shape[0]} rows")
+                raise MechanismError(f"phi has {phi.size} angles but A has {A.shape[0]} rows")
             object.__setattr__(self, "phi", phi)
 
     @property
@@ -147,22 +148,22 @@ def affine_map(
     """
     x0 = np.atleast_1d(np.asarray(x0, dtype=float))
     if x0.ndim != 1 or x0.size == 0 or not np.all(np.isfinite(x0)):
-        raise ValueError(f"x0 must be a non-empty finite 1-D vector, got {x0!r}")
+        raise MechanismError(f"x0 must be a non-empty finite 1-D vector, got {x0!r}")
     phi = cycle(int(angles)) if np.ndim(angles) == 0 else np.asarray(angles, dtype=float).ravel()
     if phi.size == 0 or not np.all(np.isfinite(phi)):
-        raise ValueError("angles: need at least one finite crank angle")
+        raise MechanismError("angles: need at least one finite crank angle")
     n = x0.size
     h = np.maximum(np.abs(x0), 1.0) if step is None else np.broadcast_to(step, (n,)).astype(float)
     if np.any(h <= 0) or not np.all(np.isfinite(h)):
-        raise ValueError(f"step must be positive and finite, got {step!r}")
+        raise MechanismError(f"step must be positive and finite, got {step!r}")
     y0 = _call(func, x0, phi)
     if y0.ndim not in (1, 2) or y0.shape[0] != phi.size:
-        raise ValueError(
+        raise MechanismError(
             f"func(x, phi) must return shape (m,) or (m, d) for m = {phi.size} angles, "
             f"got {y0.shape}"
         )
     if not np.all(np.isfinite(y0)):
-        raise ValueError("func(x0, phi) is not finite at every angle")
+        raise MechanismError("func(x0, phi) is not finite at every angle")
     cols = []
     for j in range(n):
         xj = x0.copy()
@@ -180,11 +181,11 @@ def affine_map(
         xc = x0 + h * rng.uniform(0.05, 3.0, n)
         yc = _call(func, xc, phi)
         if yc.shape != y0.shape:
-            raise ValueError(f"func returned shape {yc.shape} at another x (was {y0.shape})")
+            raise MechanismError(f"func returned shape {yc.shape} at another x (was {y0.shape})")
         dev = float(np.max(np.abs(yc - amap(xc)))) / max(scale, float(np.max(np.abs(yc))))
         worst = max(worst, dev)
     if not np.isfinite(worst) or worst > rtol:
-        raise ValueError(
+        raise MechanismError(
             f"func is not affine in x: it deviates from its affine map by {worst:.3g} "
             f"(relative; tolerance {rtol:g}) at test points forward of x0"
         )
@@ -280,7 +281,7 @@ class ConvexResult:
         import matplotlib.pyplot as plt
 
         if self.per_angle is None:
-            raise ValueError(f"nothing to plot (status {self.status})")
+            raise MechanismError(f"nothing to plot (status {self.status})")
         fig = ax.figure if ax is not None else plt.figure(figsize=(7, 3.8))
         ax = ax if ax is not None else fig.add_subplot()
         if self.phi is not None:
@@ -332,16 +333,16 @@ def _bounds(bounds, n):
         return lo, hi
     bounds = list(bounds)
     if len(bounds) != n:
-        raise ValueError(f"bounds: need {n} (lower, upper) pairs, got {len(bounds)}")
+        raise MechanismError(f"bounds: need {n} (lower, upper) pairs, got {len(bounds)}")
     for j, pair in enumerate(bounds):
         try:
             a, b = pair
         except (TypeError, ValueError) as exc:
-            raise ValueError(f"bounds[{j}] must be (lower, upper), got {pair!r}") from exc
+            raise MechanismError(f"bounds[{j}] must be (lower, upper), got {pair!r}") from exc
         lo[j] = -np.inf if a is None else float(a)
         hi[j] = np.inf if b is None else float(b)
         if np.isnan(lo[j]) or np.isnan(hi[j]) or lo[j] > hi[j]:
-            raise ValueError(f"bounds[{j}]: need lower <= upper, got ({a}, {b})")
+            raise MechanismError(f"bounds[{j}]: need lower <= upper, got ({a}, {b})")
     return lo, hi
 
 
@@ -351,9 +352,9 @@ def _linear(Am, bm, n, what):
     Am = np.atleast_2d(np.asarray(Am, dtype=float))
     bm = np.atleast_1d(np.asarray(bm, dtype=float))
     if Am.shape[1] != n or bm.shape != (Am.shape[0],):
-        raise ValueError(f"{what}: need A of shape (k, {n}) and b of shape (k,)")
+        raise MechanismError(f"{what}: need A of shape (k, {n}) and b of shape (k,)")
     if not (np.all(np.isfinite(Am)) and np.all(np.isfinite(bm))):
-        raise ValueError(f"{what} must be finite")
+        raise MechanismError(f"{what} must be finite")
     return Am, bm
 
 
@@ -412,24 +413,24 @@ def minimax_affine(
     if isinstance(A, AffineMap):
         amap = A
         if b is not None:
-            raise ValueError("give either an AffineMap or arrays A and b, not both")
+            raise MechanismError("give either an AffineMap or arrays A and b, not both")
         angles = amap.phi if angles is None else angles
     else:
         if b is None:
-            raise ValueError("b is required with an array A")
+            raise MechanismError("b is required with an array A")
         amap = AffineMap(A, b)
     if norm not in NORMS:
-        raise ValueError(f"norm must be one of {', '.join(NORMS)}, got {norm!r}")
+        raise MechanismError(f"norm must be one of {', '.join(NORMS)}, got {norm!r}")
     if norm == "euclidean" and not amap.is_vector:
-        raise ValueError("norm='euclidean' needs vector rows: A of shape (m, d, n), b (m, d)")
+        raise MechanismError("norm='euclidean' needs vector rows: A of shape (m, d, n), b (m, d)")
     Amat, bvec = amap.A, amap.b
     m, n = Amat.shape[0], amap.n
     phi = None if angles is None else np.asarray(angles, dtype=float).ravel()
     if phi is not None and phi.size != m:
-        raise ValueError(f"angles has {phi.size} entries for {m} rows")
+        raise MechanismError(f"angles has {phi.size} entries for {m} rows")
     names = [f"x{j}" for j in range(n)] if names is None else [str(s) for s in names]
     if len(names) != n:
-        raise ValueError(f"names: need {n} names, got {len(names)}")
+        raise MechanismError(f"names: need {n} names, got {len(names)}")
     lo, hi = _bounds(bounds, n)
     ub = _linear(A_ub, b_ub, n, "A_ub, b_ub")
     eq = _linear(A_eq, b_eq, n, "A_eq, b_eq")

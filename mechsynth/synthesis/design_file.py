@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from .. import load_registrations
+from ..errors import MechanismError
 from .problem_file import MECHANISMS, parse_quantity
 
 __all__ = ["DesignSpec", "load_design", "design_mechanisms", "read_toml", "register_design"]
@@ -66,7 +67,7 @@ def read_toml(source) -> tuple[dict, Path | None]:
         try:
             return tomllib.load(fh), path
         except tomllib.TOMLDecodeError as exc:
-            raise ValueError(f"{path}: not valid TOML ({exc})") from exc
+            raise MechanismError(f"{path}: not valid TOML ({exc})") from exc
 
 
 def load_design(source) -> DesignSpec:
@@ -74,7 +75,7 @@ def load_design(source) -> DesignSpec:
     data, path = read_toml(source)
     where = f"{path}: " if path else ""
     if "minimize" in data or "maximize" in data or "variables" in data:
-        raise ValueError(
+        raise MechanismError(
             f"{where}this is a problem file; `mechsynth optimize FILE --animate --out DIR` "
             "animates its optimum"
         )
@@ -84,23 +85,23 @@ def load_design(source) -> DesignSpec:
     # a mechanism read from the file's own tables (a linkage) declares them
     unknown = set(data) - _TOP_KEYS - set(getattr(kind, "file_keys", ()))
     if unknown:
-        raise ValueError(
+        raise MechanismError(
             f"{where}unknown keys {sorted(unknown)}; a design file has {sorted(_TOP_KEYS)} "
             "(top-level keys before the [design] table)"
         )
     if name not in known:
-        raise ValueError(
+        raise MechanismError(
             f"{where}mechanism must be one of {', '.join(sorted(known))}, got {name!r}"
         )
     cls = known[name]
     table = data.get("design") or {}
     if not isinstance(table, dict):
-        raise ValueError(f"{where}[design] must be a table of parameters")
+        raise MechanismError(f"{where}[design] must be a table of parameters")
     if hasattr(cls, "from_problem_data"):  # a linkage: its file, then [design] overrides
         linkage = cls.from_problem_data(data, path)
         for key in table:
             if key not in linkage.parameters:
-                raise ValueError(
+                raise MechanismError(
                     f"{where}{linkage.name} has no parameter {key!r}; its parameters: "
                     f"{', '.join(linkage.parameters)}"
                 )
@@ -110,7 +111,7 @@ def load_design(source) -> DesignSpec:
     values = {}
     for key, value in table.items():
         if key not in fields:
-            raise ValueError(
+            raise MechanismError(
                 f"{where}{cls.__name__} has no parameter {key!r}; its parameters: "
                 f"{', '.join(fields)}"
             )
@@ -126,7 +127,7 @@ def load_design(source) -> DesignSpec:
         and f.default_factory is dataclasses.MISSING
     ]
     if missing:
-        raise ValueError(f"{where}[design] must give {', '.join(missing)}")
+        raise MechanismError(f"{where}[design] must give {', '.join(missing)}")
     return _spec(cls(**values), data, where, path)
 
 
@@ -137,6 +138,6 @@ def _spec(design, data, where, path) -> DesignSpec:
     trace = data.get("trace")
     if trace is not None:
         if not isinstance(trace, list) or not all(isinstance(t, str) for t in trace):
-            raise ValueError(f"{where}trace must be a list of point names, got {trace!r}")
+            raise MechanismError(f"{where}trace must be a list of point names, got {trace!r}")
         trace = tuple(trace)
     return DesignSpec(design, speed, trace, path)

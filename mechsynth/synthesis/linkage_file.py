@@ -66,6 +66,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import MechanismError
 from ..kinematics.curves import Circle, Involute
 from ..kinematics.linkage import Linkage, Param
 from ..options import Option, chart_options
@@ -356,7 +357,7 @@ def _read(path) -> dict:
         with open(path, "rb") as fh:
             return tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
-        raise ValueError(f"{path}: not valid TOML ({exc})") from None
+        raise MechanismError(f"{path}: not valid TOML ({exc})") from None
 
 
 def load_linkage(path) -> Linkage:
@@ -419,14 +420,29 @@ def _axis(value, where):
 
 
 @chart_options(
-    Option("file", None, "the chart file: a linkage and its [chart] table", kind="path",
-           required=True),
-    Option("n", None, "grid points per axis (overrides the file)", kind="int", minimum=3,
-           maximum=2000),
-    Option("angles", None, "crank angles per turn (overrides the file)", kind="int", minimum=8,
-           maximum=100_000),
-    Option("rpm", None, "crank speed (overrides the file)", unit="rpm", kind="float",
-           minimum=0.0, exclusive=True),
+    Option(
+        "file", None, "the chart file: a linkage and its [chart] table", kind="path", required=True
+    ),
+    Option(
+        "n", None, "grid points per axis (overrides the file)", kind="int", minimum=3, maximum=2000
+    ),
+    Option(
+        "angles",
+        None,
+        "crank angles per turn (overrides the file)",
+        kind="int",
+        minimum=8,
+        maximum=100_000,
+    ),
+    Option(
+        "rpm",
+        None,
+        "crank speed (overrides the file)",
+        unit="rpm",
+        kind="float",
+        minimum=0.0,
+        exclusive=True,
+    ),
     Option("x", None, "first axis NAME:LOW:HIGH (overrides the file)", kind="str"),
     Option("y", None, "second axis NAME:LOW:HIGH (overrides the file)", kind="str"),
     owner="chart 'linkage'",

@@ -33,6 +33,7 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import MechanismError
 from ..objectives.base import Measure
 from ..options import Option, chart_options
 
@@ -287,13 +288,13 @@ def pareto_front(
     if eps is not None:
         eps = np.atleast_1d(np.asarray(eps, dtype=float))
         if eps.ndim != 1 or not np.all(np.isfinite(eps)):
-            raise ValueError("eps must be finite bounds on the second measure")
+            raise MechanismError("eps must be finite bounds on the second measure")
         n = eps.size + 2
     if n < 2:
-        raise ValueError(f"n must be at least 2 (the two anchors), got {n}")
+        raise MechanismError(f"n must be at least 2 (the two anchors), got {n}")
     for s in senses:
         if s not in ("min", "max"):
-            raise ValueError(f"senses must be 'min' or 'max', got {senses!r}")
+            raise MechanismError(f"senses must be 'min' or 'max', got {senses!r}")
     for m in (first, second):
         if not isinstance(m, Measure):
             raise TypeError(f"expected a Measure, got {type(m).__name__}")
@@ -380,10 +381,18 @@ def pareto_front(
     Option("n", 7, "points on the front, anchors included", minimum=2, maximum=200),
     Option("starts", 4, "multi-starts per interior point", minimum=1, maximum=1000),
     Option("anchor_starts", 8, "multi-starts of each anchor", minimum=1, maximum=1000),
-    Option("crank", (0.01, 0.2), "bounds of the crank", unit="m", kind="span", minimum=0.0,
-           exclusive=True),
-    Option("rod", (0.05, 0.2), "bounds of the rod", unit="m", kind="span", minimum=0.0,
-           exclusive=True),
+    Option(
+        "crank",
+        (0.01, 0.2),
+        "bounds of the crank",
+        unit="m",
+        kind="span",
+        minimum=0.0,
+        exclusive=True,
+    ),
+    Option(
+        "rod", (0.05, 0.2), "bounds of the rod", unit="m", kind="span", minimum=0.0, exclusive=True
+    ),
     Option("offset", (-0.1, 0.1), "bounds of the offset", unit="m", kind="span"),
     owner="chart 'slider-crank-pareto'",
 )

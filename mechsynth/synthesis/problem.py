@@ -20,6 +20,7 @@ from collections.abc import Iterable, Mapping
 
 import numpy as np
 
+from ..errors import MechanismError, UsageError
 from ..kinematics.mechanism import input_grid
 from ..objectives.base import Constraint, Measure
 from ..objectives.kinematic import assembly_margin
@@ -33,7 +34,7 @@ def _parameters(mechanism) -> dict[str, bool]:
     (an instance callable with parameter values, whose ``parameters`` are all set)."""
     if isinstance(mechanism, type):
         if not dataclasses.is_dataclass(mechanism):
-            raise TypeError(f"{mechanism!r} is not a mechanism class (a dataclass of parameters)")
+            raise UsageError(f"{mechanism!r} is not a mechanism class (a dataclass of parameters)")
         return {
             f.name: f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
             for f in dataclasses.fields(mechanism)
@@ -41,7 +42,14 @@ def _parameters(mechanism) -> dict[str, bool]:
     params = getattr(mechanism, "parameters", None)
     if callable(mechanism) and isinstance(params, Mapping):
         return {name: False for name in params}
-    raise TypeError(
+    if dataclasses.is_dataclass(mechanism) and isinstance(params, tuple):
+        cls = type(mechanism).__name__
+        raise UsageError(
+            f"Problem takes the mechanism class (ms.{cls}), not a design {mechanism!r}; vary "
+            f"its parameters with variables={{name: (lower, upper)}} and keep the others with "
+            f"fixed={{name: value}}"
+        )
+    raise UsageError(
         f"{mechanism!r} is neither a mechanism class (e.g. ms.SliderCrank) nor a Linkage"
     )
 
@@ -86,57 +94,61 @@ class Problem:
         self.mechanism = mechanism
         self.variables: dict[str, tuple[float, float]] = {}
         if not variables:
-            raise ValueError("variables must name at least one parameter with its (lower, upper)")
+            raise MechanismError(
+                "variables must name at least one parameter with its (lower, upper)"
+            )
         for name, bounds in variables.items():
             if name not in fields:
-                raise ValueError(
+                raise MechanismError(
                     f"{mechanism.__name__} has no parameter {name!r}; "
                     f"its parameters: {', '.join(fields)}"
                 )
             try:
                 lo, hi = (float(b) for b in bounds)
             except (TypeError, ValueError) as exc:
-                raise ValueError(
+                raise MechanismError(
                     f"variable {name!r}: bounds must be (lower, upper), got {bounds!r}"
                 ) from exc
             if not (np.isfinite(lo) and np.isfinite(hi)) or not lo < hi:
-                raise ValueError(f"variable {name!r}: need finite lower < upper, got ({lo}, {hi})")
+                raise MechanismError(
+                    f"variable {name!r}: need finite lower < upper, got ({lo}, {hi})"
+                )
             if kinds.get(name) == "length" and lo <= 0.0:
-                raise ValueError(
+                raise MechanismError(
                     f"variable {name!r} is a length: its lower bound must be positive, got {lo}"
                 )
             self.variables[name] = (lo, hi)
         self.fixed = dict(fixed or {})
         for name in self.fixed:
             if name not in fields:
-                raise ValueError(f"{mechanism.__name__} has no parameter {name!r} (in fixed)")
+                raise MechanismError(f"{mechanism.__name__} has no parameter {name!r} (in fixed)")
             if name in self.variables:
-                raise ValueError(f"{name!r} is both a variable and fixed")
+                raise MechanismError(f"{name!r} is both a variable and fixed")
         missing = [
             n
             for n, required in fields.items()
             if required and n not in self.variables and n not in self.fixed
         ]
         if missing:
-            raise ValueError(
+            raise MechanismError(
                 f"{mechanism.__name__}: give {', '.join(missing)} as variables or fixed"
             )
         if speed is not None:
             speed = float(speed)
             if not np.isfinite(speed) or speed == 0.0:
-                raise ValueError(
+                raise MechanismError(
                     f"speed must be a finite non-zero crank speed in rad/s, got {speed}"
                 )
         self.speed = speed
         if np.ndim(angles) == 0:
             n = int(angles)
             if n < 8:
-                raise ValueError(f"angles: need at least 8 grid angles, got {n}")
+                raise MechanismError(f"angles: need at least 8 grid angles, got {n}")
             self.base_angles = input_grid(mechanism, n)
         else:
             a = np.asarray(angles, dtype=float).ravel()
             if a.size < 8 or not np.all(np.isfinite(a)):
-                raise ValueError("angles: need at least 8 finite grid angles (rad)")
+                raise MechanismError("angles: need at least 8 finite grid angles (rad)")
             self.base_angles = a
         self.feasibility_margin = float(feasibility_margin)
         self.tol = float(tol)
@@ -164,7 +176,8 @@ class Problem:
 
     def _set_objective(self, measure, sense):
         if not isinstance(measure, Measure):
-            raise TypeError(f"the objective must be a Measure, got {type(measure).__name__}")
+            raise UsageError(f"the objective must be a Measure, got {type(measure).__name__}")
+        self._probe(measure, "objective")
         self.objective, self.sense = measure, sense
         self._cache.clear()
         return self
@@ -175,14 +188,47 @@ class Problem:
             items = c if isinstance(c, Iterable) and not isinstance(c, Constraint) else [c]
             for item in items:
                 if not isinstance(item, Constraint):
-                    raise TypeError(
+                    raise UsageError(
                         f"subject_to expects constraints such as `measure <= bound`, got {item!r}"
                     )
                 if not np.isfinite(item.bound):
-                    raise ValueError(f"constraint {item.name}: the bound must be finite")
+                    raise MechanismError(f"constraint {item.name}: the bound must be finite")
+                self._probe(item.measure, f"constraint {item.name}")
                 self.constraints.append(item)
         self._cache.clear()
         return self
+
+    def _probe(self, measure: Measure, what: str, tries: int = 16) -> None:
+        """Evaluate ``measure`` on a few designs within the bounds (their centre, then random
+        points) at 16 crank angles and raise :class:`UsageError` if it asks for something the
+        mechanism does not have (an output, a joint, a force model): an error that no choice of
+        dimensions removes, reported here rather than deep in a solve. Designs that cannot be
+        built or moved, and measures undefined at a design (a swing angle of a double-crank),
+        are skipped: the solvers treat those points as infeasible. O(tries) small evaluations."""
+        lo = np.array([b[0] for b in self.variables.values()])
+        hi = np.array([b[1] for b in self.variables.values()])
+        points = [(lo + hi) / 2]
+        if tries > 1:
+            sample = np.random.default_rng(12345).random((tries - 1, len(lo)))
+            points += list(lo + sample * (hi - lo))
+        phi = input_grid(self.mechanism, 16)
+        for x in points:
+            try:
+                design = self.design(**dict(zip(self.variables, map(float, x), strict=True)))
+                motion = design.motion(phi, speed=self.speed)
+            except (ValueError, ArithmeticError):
+                continue
+            try:
+                measure.from_motion(design, motion)
+                return
+            except UsageError as exc:
+                raise UsageError(f"{what} cannot be evaluated on this mechanism: {exc}") from None
+            except (ValueError, ArithmeticError):
+                continue
+            except (AttributeError, KeyError, TypeError, IndexError) as exc:
+                raise UsageError(
+                    f"{what} cannot be evaluated on this mechanism ({type(exc).__name__}: {exc})"
+                ) from None
 
     def copy(self) -> Problem:
         """An independent copy (same objective and constraints)."""

@@ -52,6 +52,7 @@ from typing import Any
 import numpy as np
 
 from .. import load_registrations
+from ..errors import MechanismError
 from ..kinematics import FourBar, SliderCrank
 from ..objectives.base import Constraint, Measure
 from ..objectives.kinematic import KINEMATIC_MEASURES
@@ -116,15 +117,17 @@ _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 def parse_quantity(text, what: str = "value") -> float:
     """A number (SI) or a string ``"<number> <unit>"`` -> float in SI units."""
     if isinstance(text, bool):
-        raise ValueError(f"{what}: expected a number, got {text!r}")
+        raise MechanismError(f"{what}: expected a number, got {text!r}")
     if isinstance(text, (int, float)):
         return float(text)
     m = re.fullmatch(rf"\s*({_NUMBER})\s*([A-Za-z/^0-9]*)\s*", str(text))
     if not m:
-        raise ValueError(f"{what}: expected '<number> [unit]', got {text!r}")
+        raise MechanismError(f"{what}: expected '<number> [unit]', got {text!r}")
     unit = m.group(2)
     if unit not in UNITS:
-        raise ValueError(f"{what}: unknown unit {unit!r} in {text!r}; known: {', '.join(UNITS)}")
+        raise MechanismError(
+            f"{what}: unknown unit {unit!r} in {text!r}; known: {', '.join(UNITS)}"
+        )
     return float(m.group(1)) * UNITS[unit]
 
 
@@ -133,7 +136,7 @@ def _parse_arg(token: str):
     if re.fullmatch(rf"{_NUMBER}(\s*[A-Za-z/^0-9]+)?", token):
         return parse_quantity(token, "argument")
     if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", token):
-        raise ValueError(f"bad measure argument {token!r}")
+        raise MechanismError(f"bad measure argument {token!r}")
     return token
 
 
@@ -141,12 +144,14 @@ def parse_measure(text: str) -> Measure:
     """``"peak_velocity(C, direction=90 deg)"`` -> the Measure."""
     m = re.fullmatch(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*(?:\((.*)\))?\s*", text)
     if not m:
-        raise ValueError(f"cannot read the measure {text!r}: expected name or name(args)")
+        raise MechanismError(f"cannot read the measure {text!r}: expected name or name(args)")
     name, argtext = m.group(1), m.group(2)
     if name not in MEASURES:
         load_registrations()  # the machines register their measures when imported
     if name not in MEASURES:
-        raise ValueError(f"unknown measure {name!r}; known measures: {', '.join(sorted(MEASURES))}")
+        raise MechanismError(
+            f"unknown measure {name!r}; known measures: {', '.join(sorted(MEASURES))}"
+        )
     args, kwargs = [], {}
     if argtext and argtext.strip():
         for part in argtext.split(","):
@@ -158,7 +163,7 @@ def parse_measure(text: str) -> Measure:
     try:
         return MEASURES[name](*args, **kwargs)
     except TypeError as exc:
-        raise ValueError(f"measure {text!r}: {exc}") from exc
+        raise MechanismError(f"measure {text!r}: {exc}") from exc
 
 
 def parse_constraint(spec) -> Constraint:
@@ -167,28 +172,32 @@ def parse_constraint(spec) -> Constraint:
         known = {"measure", "args", "kwargs", "op", "value", "unit"}
         extra = set(spec) - known
         if extra:
-            raise ValueError(f"constraint table: unknown keys {sorted(extra)}; use {sorted(known)}")
+            raise MechanismError(
+                f"constraint table: unknown keys {sorted(extra)}; use {sorted(known)}"
+            )
         try:
             name, op, value = spec["measure"], spec["op"], spec["value"]
         except KeyError as exc:
-            raise ValueError(f"constraint table needs measure, op and value: {spec!r}") from exc
+            raise MechanismError(f"constraint table needs measure, op and value: {spec!r}") from exc
         if name not in MEASURES:
             load_registrations()
         if name not in MEASURES:
-            raise ValueError(f"unknown measure {name!r}; known: {', '.join(sorted(MEASURES))}")
+            raise MechanismError(f"unknown measure {name!r}; known: {', '.join(sorted(MEASURES))}")
         measure = MEASURES[name](*spec.get("args", []), **spec.get("kwargs", {}))
         unit = spec.get("unit", "")
         if unit not in UNITS:
-            raise ValueError(f"constraint {name}: unknown unit {unit!r}")
+            raise MechanismError(f"constraint {name}: unknown unit {unit!r}")
         bound = float(value) * UNITS[unit]
     else:
         m = re.fullmatch(r"(.*?)\s*(<=|>=|==)\s*(.+)", str(spec))
         if not m:
-            raise ValueError(f"cannot read the constraint {spec!r}: expected 'measure <= value'")
+            raise MechanismError(
+                f"cannot read the constraint {spec!r}: expected 'measure <= value'"
+            )
         measure, op = parse_measure(m.group(1)), m.group(2)
         bound = parse_quantity(m.group(3), f"constraint {spec!r}")
     if op not in ("<=", ">=", "=="):
-        raise ValueError(f"constraint operator must be <=, >= or ==, got {op!r}")
+        raise MechanismError(f"constraint operator must be <=, >= or ==, got {op!r}")
     return Constraint(measure, op, bound)
 
 
@@ -238,7 +247,7 @@ def load_problem(source) -> ProblemSpec:
             try:
                 data = tomllib.load(fh)
             except tomllib.TOMLDecodeError as exc:
-                raise ValueError(f"{path}: not valid TOML ({exc})") from exc
+                raise MechanismError(f"{path}: not valid TOML ({exc})") from exc
     where = f"{path}: " if path else ""
     name = data.get("mechanism")
     if name not in MECHANISMS:
@@ -247,18 +256,18 @@ def load_problem(source) -> ProblemSpec:
     kind = MECHANISMS.get(name) if isinstance(name, str) else None
     unknown = set(data) - _TOP_KEYS - set(getattr(kind, "file_keys", ()))
     if unknown:
-        raise ValueError(
+        raise MechanismError(
             f"{where}unknown keys {sorted(unknown)} (a key written after a [table] header "
             "belongs to that table: put top-level keys first)"
         )
     if name not in MECHANISMS:
-        raise ValueError(
+        raise MechanismError(
             f"{where}mechanism must be one of {', '.join(sorted(MECHANISMS))}, got {name!r}"
         )
     variables = {}
     for k, bounds in (data.get("variables") or {}).items():
         if not isinstance(bounds, list) or len(bounds) != 2:
-            raise ValueError(f"{where}variable {k!r}: expected [lower, upper], got {bounds!r}")
+            raise MechanismError(f"{where}variable {k!r}: expected [lower, upper], got {bounds!r}")
         variables[k] = tuple(parse_quantity(b, f"variable {k!r}") for b in bounds)
     fixed = {}
     for k, v in (data.get("fixed") or {}).items():
@@ -271,14 +280,16 @@ def load_problem(source) -> ProblemSpec:
         mechanism = mechanism.from_problem_data(data, path)
     prob = Problem(mechanism, variables, fixed, speed=speed, angles=int(data.get("angles", 64)))
     if ("minimize" in data) == ("maximize" in data):
-        raise ValueError(f"{where}give exactly one of minimize = '...' or maximize = '...'")
+        raise MechanismError(f"{where}give exactly one of minimize = '...' or maximize = '...'")
     if "minimize" in data:
         prob.minimize(parse_measure(data["minimize"]))
     else:
         prob.maximize(parse_measure(data["maximize"]))
     constraints = data.get("constraints", [])
     if not isinstance(constraints, list):
-        raise ValueError(f"{where}constraints must be a list of strings or [[constraints]] tables")
+        raise MechanismError(
+            f"{where}constraints must be a list of strings or [[constraints]] tables"
+        )
     prob.subject_to(*[parse_constraint(c) for c in constraints])
     opts = {}
     for key in ("method", "starts", "seed"):

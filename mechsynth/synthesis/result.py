@@ -23,6 +23,8 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import MechanismError
+
 __all__ = ["STATUSES", "ConstraintValue", "Certification", "Result"]
 
 
@@ -362,7 +364,7 @@ class Result:
         from ..plotting import title as make_title
 
         if self.design is None:
-            raise ValueError(f"no valid design to plot (status {self.status})")
+            raise MechanismError(f"no valid design to plot (status {self.status})")
         from ..kinematics.mechanism import input_grid
 
         linear = _linear_input(self.design)

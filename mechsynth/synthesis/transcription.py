@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import SolverError
+from ..errors import MechanismError, SolverError
 from ..objectives.base import Combination, CycleMeasure, Measure, ScalarMeasure
 
 __all__ = ["Atom", "LinearForm", "flatten", "NumericForms", "Transcription"]
@@ -375,7 +375,7 @@ class Transcription(NumericForms):
                     ca.Function("g", [self.x, self.p], [self.g, jac]),
                 )
             else:
-                raise ValueError(f"unknown transcription solver {method!r}")
+                raise MechanismError(f"unknown transcription solver {method!r}")
         return self._solvers[key]
 
     def replace_extra(self, n_extra: int) -> Transcription:

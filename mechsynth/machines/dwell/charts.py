@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...errors import MechanismError
 from ...options import Option, chart_options
 from .linkage import DwellSliderCrank
 from .metrics import best_window_width, dwell_metrics
@@ -149,9 +150,11 @@ def dwell_chart_data(
     k = np.asarray(k, dtype=float)
     gamma_deg = np.atleast_1d(np.asarray(gamma_deg, dtype=float))
     if n_angles < 36:
-        raise ValueError(f"n_angles must be >= 36, got {n_angles}")
+        raise MechanismError(f"n_angles must be >= 36, got {n_angles}")
     if not np.isfinite(stroke) or stroke < 0:
-        raise ValueError(f"stroke (minimum S_max, relative to the rod) must be >= 0, got {stroke}")
+        raise MechanismError(
+            f"stroke (minimum S_max, relative to the rod) must be >= 0, got {stroke}"
+        )
     phi = np.arange(n_angles) * 2.0 * np.pi / n_angles
     parts = []
     for g in bar(gamma_deg, desc="dwell chart", enabled=progress, unit="bend"):
@@ -327,19 +330,49 @@ def plot_dwell_chart(chart: DwellChart, path=None):
 
 
 @chart_options(
-    Option("gamma_deg", (0.0, 20.0, 40.0), "bends gamma of the coupler, one panel column each",
-           unit="deg", minimum=-180.0, maximum=180.0),
-    Option("tolerance", 0.002, "half-width E of the dwell band, relative to the rod",
-           minimum=0.0, exclusive=True),
+    Option(
+        "gamma_deg",
+        (0.0, 20.0, 40.0),
+        "bends gamma of the coupler, one panel column each",
+        unit="deg",
+        minimum=-180.0,
+        maximum=180.0,
+    ),
+    Option(
+        "tolerance",
+        0.002,
+        "half-width E of the dwell band, relative to the rod",
+        minimum=0.0,
+        exclusive=True,
+    ),
     Option("stroke", 0.3, "minimum relative stroke S_max of a design that counts", minimum=0.0),
     Option("n", 40, "grid points per axis", minimum=3, maximum=1000),
-    Option("window_deg", 90.0, "dwell window searched", unit="deg", minimum=0.0,
-           exclusive=True, maximum=360.0),
+    Option(
+        "window_deg",
+        90.0,
+        "dwell window searched",
+        unit="deg",
+        minimum=0.0,
+        exclusive=True,
+        maximum=360.0,
+    ),
     Option("n_angles", 360, "crank angles per turn", minimum=8, maximum=100_000),
-    Option("r", (0.05, 0.5), "range of the crank r (relative to the rod)", kind="span",
-           minimum=0.0, exclusive=True),
-    Option("k", (0.3, 2.5), "range of the coupler point distance k (relative to the rod)",
-           kind="span", minimum=0.0, exclusive=True),
+    Option(
+        "r",
+        (0.05, 0.5),
+        "range of the crank r (relative to the rod)",
+        kind="span",
+        minimum=0.0,
+        exclusive=True,
+    ),
+    Option(
+        "k",
+        (0.3, 2.5),
+        "range of the coupler point distance k (relative to the rod)",
+        kind="span",
+        minimum=0.0,
+        exclusive=True,
+    ),
     owner="chart 'dwell'",
 )
 def chart_dwell(out, options):

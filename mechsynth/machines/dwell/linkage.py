@@ -24,6 +24,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from ...errors import MechanismError
 from ...kinematics import ops
 from ...kinematics.blocks import coupler_point
 from ...kinematics.mechanism import (
@@ -109,7 +110,7 @@ class DwellSliderCrank(Mechanism):
         """Jet of the displacement ``s5`` of link 5 (m, along ``(-sin xi, cos xi)``)."""
         xi = self.xi if xi is None else xi
         if xi is None:
-            raise ValueError("xi (slot angle of link 5) is not set: give xi to use link 5")
+            raise MechanismError("xi (slot angle of link 5) is not set: give xi to use link 5")
         c = self.coupler_jet(phi)
         nx, ny = -ops.sin(xi), ops.cos(xi)
         return Jet(c.x * nx + c.y * ny, c.dx * nx + c.dy * ny, c.ddx * nx + c.ddy * ny)

@@ -32,6 +32,7 @@ import numba
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
+from ...errors import MechanismError
 from ...objectives.base import Measure
 
 __all__ = [
@@ -245,9 +246,9 @@ def minimax_line_fit(points) -> LineFit:
     """
     p = np.asarray(points, dtype=float)
     if p.ndim != 2 or p.shape[1] != 2 or p.shape[0] < 2:
-        raise ValueError(f"points must be an (N, 2) array with N >= 2, got shape {p.shape}")
+        raise MechanismError(f"points must be an (N, 2) array with N >= 2, got shape {p.shape}")
     if not np.all(np.isfinite(p)):
-        raise ValueError("points must be finite")
+        raise MechanismError("points must be finite")
     try:
         hull = p[ConvexHull(p).vertices]
     except QhullError:
@@ -308,12 +309,12 @@ def _check_grid(phi):
     phi = np.asarray(phi, dtype=float)
     n = phi.size
     if phi.ndim != 1 or n < 4:
-        raise ValueError(
+        raise MechanismError(
             f"phi must be a 1-D grid of at least 4 crank angles, got shape {phi.shape}"
         )
     step = 2.0 * np.pi / n
     if not np.allclose(np.diff(phi), step, rtol=1e-9, atol=1e-12):
-        raise ValueError(
+        raise MechanismError(
             f"phi must cover one cycle in {n} equal steps of {step:.6g} rad (e.g. ms.cycle({n}))"
         )
     return phi, step
@@ -330,12 +331,12 @@ def dwell_window(phi, x, y, tolerance) -> DwellWindow:
     """
     phi, step = _check_grid(phi)
     if not np.isfinite(tolerance) or tolerance <= 0:
-        raise ValueError(f"tolerance (half-width E) must be positive, got {tolerance}")
+        raise MechanismError(f"tolerance (half-width E) must be positive, got {tolerance}")
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
     n = phi.size
     if x.shape != (n,) or y.shape != (n,):
-        raise ValueError(f"x and y must have the shape of phi {(n,)}, got {x.shape}, {y.shape}")
+        raise MechanismError(f"x and y must have the shape of phi {(n,)}, got {x.shape}, {y.shape}")
     st, ct = _longest_windows(x[None, :], y[None, :], 2.0 * float(tolerance))
     best_i, best_len = int(st[0]), int(ct[0])
     fit = window_deviation(x, y, best_i, best_i + best_len)
@@ -354,11 +355,11 @@ def dwell_windows(phi, x, y, tolerance):
     """
     phi, step = _check_grid(phi)
     if not np.isfinite(tolerance) or tolerance <= 0:
-        raise ValueError(f"tolerance (half-width E) must be positive, got {tolerance}")
+        raise MechanismError(f"tolerance (half-width E) must be positive, got {tolerance}")
     x, y = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
     n = phi.size
     if x.shape[-1] != n:
-        raise ValueError(f"the last axis of x, y must match phi ({n}), got {x.shape}")
+        raise MechanismError(f"the last axis of x, y must match phi ({n}), got {x.shape}")
     lead = x.shape[:-1]
     fx = np.ascontiguousarray(x.reshape(-1, n))
     fy = np.ascontiguousarray(y.reshape(-1, n))
@@ -397,7 +398,7 @@ def best_window_width(phi, x, y, span):
     phi, step = _check_grid(phi)
     count = int(np.floor(span / step + 1e-9)) + 1
     if not 2 <= count <= phi.size:
-        raise ValueError(f"span ({span} rad) must cover 1 .. {phi.size - 1} grid steps")
+        raise MechanismError(f"span ({span} rad) must cover 1 .. {phi.size - 1} grid steps")
     x, y = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
     n = phi.size
     lead = x.shape[:-1]

@@ -52,6 +52,7 @@ from ...dynamics.kinetostatics import applied_power
 from ...dynamics.loads import TabulatedLoad
 from ...dynamics.motor import InductionMotor
 from ...dynamics.reduced import ReducedModel
+from ...errors import MechanismError
 from ...units import rpm, to_rpm
 from .model import NailHeader
 
@@ -105,7 +106,7 @@ class TabulatedMoment:
         # the load tables' checks (finite, same length, strictly increasing, one period)
         table = TabulatedLoad(self.theta, self.moment, TWO_PI, "theta", "moment")
         if table.x[0] != 0.0 or abs(table.x[-1] - TWO_PI) > 1e-12:
-            raise ValueError(
+            raise MechanismError(
                 f"theta must run from 0 to 2 pi, got {table.x[0]:.6g} .. {table.x[-1]:.6g}"
             )
         object.__setattr__(self, "theta", table.x)
@@ -126,11 +127,13 @@ def check_header(header=None, slider_mass=None) -> NailHeader:
     if header is None:
         header = NailHeader()
     if not isinstance(header, NailHeader):
-        raise ValueError(f"header must be a NailHeader, got {type(header).__name__}: {header!r}")
+        raise MechanismError(
+            f"header must be a NailHeader, got {type(header).__name__}: {header!r}"
+        )
     if slider_mass is not None:
         header = dataclasses.replace(header, m3=float(slider_mass))
     if not header.n1 > 0:
-        raise ValueError(f"header speed n1 must be positive (rpm), got {header.n1}")
+        raise MechanismError(f"header speed n1 must be positive (rpm), got {header.n1}")
     return header
 
 
@@ -142,7 +145,7 @@ def crank_speed(header: NailHeader) -> float:
 def _angles(theta):
     t = np.atleast_1d(np.asarray(theta, dtype=float))
     if not np.all(np.isfinite(t)):
-        raise ValueError(f"crank angles theta must be finite, got {t[~np.isfinite(t)][:3]}")
+        raise MechanismError(f"crank angles theta must be finite, got {t[~np.isfinite(t)][:3]}")
     return t
 
 
@@ -205,7 +208,7 @@ def contact_angles(header: NailHeader, n=5760) -> np.ndarray:
     as bracketing pairs ``[[lo, hi], ...]`` (``lo < hi``, adjacent floats apart at most 1e-13)."""
     header = check_header(header)
     if int(n) < 8:
-        raise ValueError(f"contact search intervals n must be at least 8, got {n}")
+        raise MechanismError(f"contact search intervals n must be at least 8, got {n}")
     theta = np.linspace(0.0, TWO_PI, int(n) + 1)
     on = _upsetting_on(header, theta)
     pairs = []
@@ -228,7 +231,7 @@ def load_table(header: NailHeader, n=5760) -> TabulatedMoment:
     header = check_header(header)
     n = int(n)
     if n < 8:
-        raise ValueError(f"load table intervals n must be at least 8, got {n}")
+        raise MechanismError(f"load table intervals n must be at least 8, got {n}")
     theta = np.unique(
         np.concatenate([np.linspace(0.0, TWO_PI, n + 1), contact_angles(header, n).ravel()])
     )
@@ -268,7 +271,7 @@ def default_motor(gear_ratio=None, header: NailHeader | None = None, load_torque
     u_sync = base.sync_speed / w  # zero slip: no torque
     u_k = (1.0 - base.critical_slip) * u_sync  # breakdown torque
     if not np.isfinite(m_l) or m_l >= base.efficiency * u_k * base.breakdown_torque:
-        raise ValueError(
+        raise MechanismError(
             f"the assumed {a['rated_power_W'] / 1e3:.3g} kW motor cannot carry a mean load "
             f"torque of {m_l:.6g} N m at {header.n1:.6g} rpm (breakdown "
             f"{base.efficiency * u_k * base.breakdown_torque:.6g} N m at the crank)"
@@ -298,7 +301,7 @@ def nail_header_drive(
     header = check_header(header, slider_mass)
     n = int(n)
     if n < 8 or int(table) < 1:
-        raise ValueError(f"n must be at least 8 and table at least 1, got n={n}, table={table}")
+        raise MechanismError(f"n must be at least 8 and table at least 1, got n={n}, table={table}")
     theta = np.linspace(0.0, TWO_PI, n + 1)
     j, dj = nail_header_inertia(header, theta)
     loads = load_table(header, int(table) * n)
@@ -307,7 +310,7 @@ def nail_header_drive(
     if motor is None:
         motor = default_motor(gear_ratio, header, -loads.work / TWO_PI)
     elif not isinstance(motor, InductionMotor):
-        raise ValueError(f"motor must be an InductionMotor, got {type(motor).__name__}")
+        raise MechanismError(f"motor must be an InductionMotor, got {type(motor).__name__}")
     return model, motor
 
 

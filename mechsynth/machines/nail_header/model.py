@@ -30,6 +30,7 @@ from ...dynamics.kinetostatics import (
     kinetostatics,
 )
 from ...dynamics.loads import G, Gravity, PointForce, TorsionSpring, upsetting_force
+from ...errors import MechanismError
 from ...kinematics import ops
 from ...kinematics.blocks import coupler_point, crank, dyad_rpr, dyad_rrp
 from ...kinematics.mechanism import Mechanism, as_angles, check_finite, check_length, speed_pair
@@ -41,7 +42,7 @@ __all__ = ["NailHeader"]
 def _mass(name, value):
     value = check_finite(name, value)
     if not ops.is_symbolic(value) and np.any(np.asarray(value) < 0):
-        raise ValueError(f"{name} must not be negative, got {value}")
+        raise MechanismError(f"{name} must not be negative, got {value}")
     return value
 
 

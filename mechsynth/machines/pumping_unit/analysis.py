@@ -37,6 +37,7 @@ from typing import Any
 
 import numpy as np
 
+from ...errors import MechanismError
 from ...report import StudyResult
 from ...units import spm as spm_to_rad_s
 from .beam_unit import BeamPumpingUnit, crank_speed
@@ -99,26 +100,26 @@ def load_unit(source) -> tuple[BeamPumpingUnit, dict[str, Any]]:
             try:
                 data = tomllib.load(fh)
             except tomllib.TOMLDecodeError as exc:
-                raise ValueError(f"{path}: not valid TOML ({exc})") from exc
+                raise MechanismError(f"{path}: not valid TOML ({exc})") from exc
         where = f"{path}: "
     unknown = set(data) - UNIT_KEYS
     if unknown:
-        raise ValueError(f"{where}unknown keys {sorted(unknown)}; known: {sorted(UNIT_KEYS)}")
+        raise MechanismError(f"{where}unknown keys {sorted(unknown)}; known: {sorted(UNIT_KEYS)}")
     units = data.get("units", "m")
     if units not in ("m", "in"):
-        raise ValueError(f"{where}units must be 'm' or 'in', got {units!r}")
+        raise MechanismError(f"{where}units must be 'm' or 'in', got {units!r}")
     missing = [k for k in ("A", "C", "I", "P", "R", "spm") if k not in data]
     if missing:
-        raise ValueError(f"{where}missing {', '.join(missing)}")
+        raise MechanismError(f"{where}missing {', '.join(missing)}")
 
     def num(key, default=None):
         v = data.get(key, default)
         if v is None:
             return None
         if isinstance(v, bool) or not isinstance(v, (int, float)):
-            raise ValueError(f"{where}{key} must be a number, got {v!r}")
+            raise MechanismError(f"{where}{key} must be a number, got {v!r}")
         if not np.isfinite(v):
-            raise ValueError(f"{where}{key} must be finite, got {v!r}")
+            raise MechanismError(f"{where}{key} must be finite, got {v!r}")
         return float(v)
 
     unit = BeamPumpingUnit.from_api(
@@ -136,15 +137,15 @@ def load_unit(source) -> tuple[BeamPumpingUnit, dict[str, Any]]:
     )
     spm = num("spm")
     if not spm > 0:
-        raise ValueError(f"{where}spm must be positive, got {spm}")
+        raise MechanismError(f"{where}spm must be positive, got {spm}")
     force = POUND if units == "in" else 1.0
     torque = POUND * INCH if units == "in" else 1.0
     rating = num("gearbox_rating")
     if rating is not None and not rating > 0:
-        raise ValueError(f"{where}gearbox_rating must be positive, got {rating}")
+        raise MechanismError(f"{where}gearbox_rating must be positive, got {rating}")
     free = data.get("free_phase", False)
     if not isinstance(free, bool):
-        raise ValueError(f"{where}free_phase must be true or false, got {free!r}")
+        raise MechanismError(f"{where}free_phase must be true or false, got {free!r}")
     return unit, {
         "designation": str(data.get("designation", "")),
         "spm": spm,
@@ -162,7 +163,7 @@ def load_unit(source) -> tuple[BeamPumpingUnit, dict[str, Any]]:
 
 def _nonnegative(where, key, value):
     if value < 0:
-        raise ValueError(f"{where}{key} must be >= 0, got {value}")
+        raise MechanismError(f"{where}{key} must be >= 0, got {value}")
     return value
 
 
@@ -172,7 +173,7 @@ def analyze(unit_file, card=None, out=None, units="oilfield", n=720) -> StudyRes
     the output ``units``, named in ``data["units"]``); ``data["success"]`` is False when the
     counterbalance optimization fails."""
     if units not in OUTPUT_UNITS:
-        raise ValueError(f"units must be one of {', '.join(OUTPUT_UNITS)}, got {units!r}")
+        raise MechanismError(f"units must be one of {', '.join(OUTPUT_UNITS)}, got {units!r}")
     unit, op = load_unit(unit_file)
     U = OUTPUT_UNITS[units]
 

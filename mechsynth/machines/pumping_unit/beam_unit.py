@@ -39,6 +39,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from ...errors import MechanismError
 from ...kinematics import ops
 from ...kinematics.blocks import crank as crank_block
 from ...kinematics.blocks import dyad_rrr, link_angle
@@ -73,14 +74,14 @@ _ALIASES = {"class-i": "conventional", "class-iii": "mark-ii", "markii": "mark-i
 def _unit_class(value: str) -> str:
     v = _ALIASES.get(str(value).lower(), str(value).lower())
     if v not in UNIT_CLASSES:
-        raise ValueError(f"unit_class must be 'conventional' or 'mark-ii', got {value!r}")
+        raise MechanismError(f"unit_class must be 'conventional' or 'mark-ii', got {value!r}")
     return v
 
 
 def _rotation(value: str) -> str:
     v = str(value).lower()
     if v not in ROTATIONS:
-        raise ValueError(f"rotation must be 'cw' or 'ccw' (well to the right), got {value!r}")
+        raise MechanismError(f"rotation must be 'cw' or 'ccw' (well to the right), got {value!r}")
     return v
 
 
@@ -122,7 +123,7 @@ def crank_speed(theta, mean, fluctuation=0.0, phase=0.0):
     mean = check_finite("mean", mean)
     fluctuation = check_finite("fluctuation", fluctuation)
     if not 0.0 <= fluctuation < 2.0:
-        raise ValueError(f"fluctuation must be in [0, 2), got {fluctuation}")
+        raise MechanismError(f"fluctuation must be in [0, 2), got {fluctuation}")
     theta = np.asarray(theta, dtype=float)
     omega = mean * (1.0 + 0.5 * fluctuation * np.cos(theta - phase))
     domega = -mean * 0.5 * fluctuation * np.sin(theta - phase)
@@ -252,22 +253,24 @@ class BeamPumpingUnit(Mechanism):
         """
         scale = {"m": 1.0, "in": 0.0254}.get(units)
         if scale is None:
-            raise ValueError(f"units must be 'm' or 'in', got {units!r}")
+            raise MechanismError(f"units must be 'm' or 'in', got {units!r}")
         A, C, I, P, R = (check_length(n, v) for n, v in zip("ACIPR", (A, C, I, P, R)))  # noqa: E741
         if K is not None:
             if H is not None or G is not None:
-                raise ValueError("give either K or the heights H and G, not both")
+                raise MechanismError("give either K or the heights H and G, not both")
             K = check_length("K", K)
             if not K > I:
-                raise ValueError(f"K ({K}) must exceed I ({I}): K is the hypotenuse over I")
+                raise MechanismError(f"K ({K}) must exceed I ({I}): K is the hypotenuse over I")
             height = float(np.sqrt(K * K - I * I))
         else:
             if H is None or G is None:
-                raise ValueError("give K, or both heights H and G")
+                raise MechanismError("give K, or both heights H and G")
             H, G = check_finite("H", H), check_finite("G", G)
             height = H - G
             if not height > 0:
-                raise ValueError(f"H ({H}) must exceed G ({G}): centre bearing above crankshaft")
+                raise MechanismError(
+                    f"H ({H}) must exceed G ({G}): centre bearing above crankshaft"
+                )
         uc = _unit_class(unit_class)
         sign = 1.0 if uc == "conventional" else -1.0
         return cls(
@@ -302,7 +305,7 @@ class BeamPumpingUnit(Mechanism):
         stroke = check_length("stroke", stroke)
         front_arm = check_length("front_arm", front_arm)
         if stroke / front_arm >= np.pi:
-            raise ValueError(
+            raise MechanismError(
                 f"stroke ({stroke} m) needs a beam swing of {stroke / front_arm:.4g} rad >= pi "
                 f"with front_arm {front_arm} m"
             )

@@ -7,6 +7,7 @@ measures apply directly (``peak_acceleration("slider")``, ``stroke("slider")``,
 
 from __future__ import annotations
 
+from ...errors import MechanismError
 from ...objectives.base import CycleMeasure
 
 __all__ = ["peak_torque_factor", "PUMPING_MEASURES"]
@@ -15,7 +16,9 @@ __all__ = ["peak_torque_factor", "PUMPING_MEASURES"]
 def _tf(mechanism, motion):
     tf = motion.extra.get("torque_factor") if motion.extra else None
     if tf is None:
-        raise ValueError(f"{type(mechanism).__name__} has no torque factor (not a pumping unit)")
+        raise MechanismError(
+            f"{type(mechanism).__name__} has no torque factor (not a pumping unit)"
+        )
     return tf
 
 

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...errors import MechanismError
 from ...kinematics.mechanism import check_finite, check_length
 from .torque import GRAVITY, DynamometerCard
 
@@ -68,12 +69,14 @@ class RodString:
             object.__setattr__(self, name, check_length(name, getattr(self, name)))
         v = check_finite("damping", self.damping)
         if v < 0.0:
-            raise ValueError(f"damping must not be negative, got {v}")
+            raise MechanismError(f"damping must not be negative, got {v}")
         object.__setattr__(self, "damping", v)
         if self.lift > self.depth:
-            raise ValueError(f"lift ({self.lift} m) cannot exceed the pump depth ({self.depth} m)")
+            raise MechanismError(
+                f"lift ({self.lift} m) cannot exceed the pump depth ({self.depth} m)"
+            )
         if self.fluid_density >= self.density:
-            raise ValueError("the rods must be denser than the well fluid")
+            raise MechanismError("the rods must be denser than the well fluid")
 
     @property
     def area(self) -> float:
@@ -107,7 +110,7 @@ def wave_equation_card(unit, rods: RodString, speed, cycles=8, nodes=100, points
     speed = check_length("speed", speed)
     n = int(nodes)
     if n < 10:
-        raise ValueError(f"nodes must be at least 10, got {nodes}")
+        raise MechanismError(f"nodes must be at least 10, got {nodes}")
     L, a = rods.depth, rods.wave_speed
     dx = L / n
     period = 2.0 * np.pi / speed

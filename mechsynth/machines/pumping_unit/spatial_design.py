@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from ...errors import MechanismError
 from .spatial_forces import SpatialMasses, spatial_forces
 from .spatial_unit import DEVIATIONS, SpatialPumpingUnit
 from .torque import Counterbalance
@@ -48,7 +49,7 @@ SAMPLES_PER_CHUNK = 4000
 
 def _check_deviation(name):
     if name not in DEVIATIONS:
-        raise ValueError(f"unknown deviation {name!r}; known: {', '.join(DEVIATIONS)}")
+        raise MechanismError(f"unknown deviation {name!r}; known: {', '.join(DEVIATIONS)}")
 
 
 def _peak_splits(units: list[dict], base: SpatialPumpingUnit, theta, speed, load, masses):
@@ -234,7 +235,7 @@ def tolerance_design_chart(
     widths = np.asarray(widths, dtype=float).ravel()
     factors = np.asarray(stiffness_factors, dtype=float).ravel()
     if np.any(widths <= 0) or np.any(factors <= 0):
-        raise ValueError("widths and stiffness factors must be positive")
+        raise MechanismError("widths and stiffness factors must be positive")
     probe = 1e-3 if probe is None else float(probe)
     sec = unit.pitman_section
     base = unit.ideal()
@@ -319,7 +320,7 @@ def size_counterbalance(
 
     masses = SpatialMasses() if masses is None else masses
     if masses.counterweight > 0.0:
-        raise ValueError(
+        raise MechanismError(
             "size_counterbalance: give the counterweights' rotary inertia in crank_inertia "
             "(masses.counterweight = 0): with point masses the torque is not affine in M"
         )

@@ -47,6 +47,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from ...dynamics.spatial_kinetostatics import SpatialJoint, cantilever_compliance, solve_spatial
+from ...errors import MechanismError
 from ...kinematics.mechanism import check_finite
 from ...kinematics.spatial import Y, cross, dot, norm, unit
 from .spatial_unit import SpatialPumpingUnit, SpatialPumpMotion
@@ -71,7 +72,7 @@ PAIRS = {"O": "R01", "A": "R12", "A1": "R13", "B": "R24", "B1": "R34", "D": "R45
 def _nonneg(name, value):
     value = check_finite(name, value)
     if np.any(np.asarray(value) < 0.0):
-        raise ValueError(f"{name} must not be negative, got {value}")
+        raise MechanismError(f"{name} must not be negative, got {value}")
     return value
 
 
@@ -133,7 +134,7 @@ class SpatialMasses:
                 object.__setattr__(self, name, _nonneg(f"masses.{name}", getattr(self, name)))
         com = check_finite("masses.pitman_com", self.pitman_com)
         if not 0.0 <= com <= 1.0:
-            raise ValueError(
+            raise MechanismError(
                 f"masses.pitman_com must lie in [0, 1] (fraction of the length), got {com}"
             )
         object.__setattr__(self, "pitman_com", com)
@@ -205,7 +206,7 @@ class SpatialForces:
     def pair(self, name: str) -> Reaction:
         """The reaction at pair ``name`` (``"O" "A" "A1" "B" "B1" "D" "C"``)."""
         if name not in PAIRS:
-            raise ValueError(f"unknown pair {name!r}; pairs: {', '.join(PAIRS)}")
+            raise MechanismError(f"unknown pair {name!r}; pairs: {', '.join(PAIRS)}")
         return self.reactions[PAIRS[name]]
 
     @property
@@ -267,11 +268,11 @@ def rod_load(unit, motion, theta, load):
     try:
         w = np.broadcast_to(w, shape)
     except ValueError:
-        raise ValueError(
+        raise MechanismError(
             f"load: shape {np.shape(w)} does not match the crank angles {shape}"
         ) from None
     if not np.all(np.isfinite(w)):
-        raise ValueError("load: not finite at every crank angle")
+        raise MechanismError("load: not finite at every crank angle")
     return w
 
 
@@ -514,19 +515,19 @@ def spatial_forces(
     SpatialForces
     """
     if not isinstance(unit, SpatialPumpingUnit):
-        raise ValueError(f"unit must be a SpatialPumpingUnit, got {type(unit).__name__}")
+        raise MechanismError(f"unit must be a SpatialPumpingUnit, got {type(unit).__name__}")
     if speed is None:
-        raise ValueError("forces need the crank speed (rad/s); e.g. speed=ms.spm(6)")
+        raise MechanismError("forces need the crank speed (rad/s); e.g. speed=ms.spm(6)")
     speed = check_finite("speed", speed)
     if np.any(np.asarray(speed) <= 0.0):
-        raise ValueError(
+        raise MechanismError(
             f"speed must be positive (rad/s in the direction of rotation), got {speed}"
         )
     if counterbalance is not None and not isinstance(counterbalance, Counterbalance):
-        raise ValueError("counterbalance must be a Counterbalance(moment, phase) or None")
+        raise MechanismError("counterbalance must be a Counterbalance(moment, phase) or None")
     masses = SpatialMasses() if masses is None else masses
     if not isinstance(masses, SpatialMasses):
-        raise ValueError("masses must be a SpatialMasses")
+        raise MechanismError("masses must be a SpatialMasses")
     g = check_finite("gravity", gravity)
     theta = np.asarray(theta, dtype=float)
     m = unit.motion(theta, speed=speed, epsilon=epsilon)
@@ -700,7 +701,7 @@ def planar_torque(
 
     masses = SpatialMasses() if masses is None else masses
     if masses.counterweight > 0.0:
-        raise ValueError("planar_torque: give the counterweights as crank_inertia and a moment")
+        raise MechanismError("planar_torque: give the counterweights as crank_inertia and a moment")
     pu = unit.planar
     theta = np.asarray(theta, dtype=float)
     m = pu.motion(theta, speed=speed, epsilon=epsilon)

@@ -206,7 +206,7 @@ class SpatialPumpingUnit(Mechanism):
 
     def __post_init__(self):
         if ops.is_symbolic(*(getattr(self, k) for k in self.parameters)):
-            raise ValueError(
+            raise MechanismError(
                 "SpatialPumpingUnit is numeric only (its loops are closed by Newton's method): "
                 "give numbers or numpy arrays, not CasADi symbols"
             )
@@ -220,9 +220,9 @@ class SpatialPumpingUnit(Mechanism):
         object.__setattr__(self, "unit_class", _unit_class(self.unit_class))
         object.__setattr__(self, "rotation", _rotation(self.rotation))
         if self.joints not in JOINTS:
-            raise ValueError(f"joints must be 'revolute' or 'spherical', got {self.joints!r}")
+            raise MechanismError(f"joints must be 'revolute' or 'spherical', got {self.joints!r}")
         if not isinstance(self.pitman_section, BeamSection):
-            raise ValueError("pitman_section must be a BeamSection")
+            raise MechanismError("pitman_section must be a BeamSection")
         for name, limit in (
             ("crank_difference", 2.0 * np.asarray(self.crank)),
             ("pitman_difference", 2.0 * np.asarray(self.pitman)),
@@ -230,20 +230,20 @@ class SpatialPumpingUnit(Mechanism):
         ):
             v = np.abs(np.asarray(getattr(self, name)))
             if np.any(v >= 0.5 * limit):
-                raise ValueError(
+                raise MechanismError(
                     f"{name} ({float(np.max(v)):.6g} m) is not a small deviation: it must stay "
                     f"below {float(np.min(0.5 * limit)):.6g} m"
                 )
         for name in ("phase_mismatch", "shaft_tilt", "shaft_skew", "beam_tilt", "beam_skew"):
             v = np.abs(np.asarray(getattr(self, name)))
             if np.any(v >= 0.2):
-                raise ValueError(
+                raise MechanismError(
                     f"{name} ({float(np.max(v)):.6g} rad) is not a small deviation: it must stay "
                     "below 0.2 rad"
                 )
         half = np.abs(np.asarray(self.crank_spacing) - np.asarray(self.equalizer_width)) / 2.0
         if np.any(half >= 0.5 * np.asarray(self.pitman)):
-            raise ValueError(
+            raise MechanismError(
                 f"crank_spacing ({self.crank_spacing}) and equalizer_width "
                 f"({self.equalizer_width}) differ too much for the pitman ({self.pitman} m)"
             )
@@ -267,10 +267,10 @@ class SpatialPumpingUnit(Mechanism):
         motion is the planar unit's (it is the planar pitman when the spacing equals the
         width)."""
         if not isinstance(unit, BeamPumpingUnit):
-            raise ValueError(f"unit must be a BeamPumpingUnit, got {type(unit).__name__}")
+            raise MechanismError(f"unit must be a BeamPumpingUnit, got {type(unit).__name__}")
         unknown = set(deviations) - set(DEVIATIONS)
         if unknown:
-            raise ValueError(
+            raise MechanismError(
                 f"unknown deviation(s) {sorted(unknown)}; known: {', '.join(DEVIATIONS)}"
             )
         s = check_length("crank_spacing", crank_spacing)

@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from ...errors import MechanismError
 from ...kinematics.mechanism import check_finite
 from .beam_unit import BeamPumpingUnit
 
@@ -53,7 +54,7 @@ GRAVITY = 9.80665
 def _angles(theta):
     theta = np.asarray(theta, dtype=float)
     if theta.ndim != 1 or theta.size < 8 or not np.all(np.isfinite(theta)):
-        raise ValueError("theta must be a 1-D array of at least 8 finite crank angles (rad)")
+        raise MechanismError("theta must be a 1-D array of at least 8 finite crank angles (rad)")
     return theta
 
 
@@ -77,17 +78,17 @@ class DynamometerCard:
         x = np.asarray(self.position, dtype=float).ravel()
         w = np.asarray(self.load, dtype=float).ravel()
         if x.size != w.size:
-            raise ValueError(
+            raise MechanismError(
                 f"card: {x.size} positions but {w.size} loads; give (position, load) pairs"
             )
         if x.size < 8:
-            raise ValueError(f"card: need at least 8 (position, load) points, got {x.size}")
+            raise MechanismError(f"card: need at least 8 (position, load) points, got {x.size}")
         for name, v in (("position", x), ("load", w)):
             bad = ~np.isfinite(v)
             if np.any(bad):
-                raise ValueError(f"card: {name} {int(np.argmax(bad)) + 1} is not finite")
+                raise MechanismError(f"card: {name} {int(np.argmax(bad)) + 1} is not finite")
         if not np.ptp(x) > 0:
-            raise ValueError("card: the positions do not move (zero stroke)")
+            raise MechanismError("card: the positions do not move (zero stroke)")
         object.__setattr__(self, "position", x)
         object.__setattr__(self, "load", w)
 
@@ -109,14 +110,16 @@ class DynamometerCard:
                 except ValueError as exc:
                     if not rows and i == 0:
                         continue  # header
-                    raise ValueError(
+                    raise MechanismError(
                         f"{path}: line {i + 1}: expected two numbers, got {row!r}"
                     ) from exc
                 if len(values) != 2:
-                    raise ValueError(f"{path}: line {i + 1}: expected position, load; got {row!r}")
+                    raise MechanismError(
+                        f"{path}: line {i + 1}: expected position, load; got {row!r}"
+                    )
                 rows.append(values)
         if not rows:
-            raise ValueError(f"{path}: no (position, load) rows")
+            raise MechanismError(f"{path}: no (position, load) rows")
         data = np.asarray(rows)
         return cls(data[:, 0] * position_scale, data[:, 1] * load_scale, str(path))
 
@@ -137,7 +140,9 @@ class DynamometerCard:
         # holds the points strictly after the top (np.interp holds its end values beyond them)
         down = (x[top + 1 :], w[top + 1 :])
         if down[0].size < 2 or up[0].size < 2:
-            raise ValueError("card: need at least two points on each of the up and down strokes")
+            raise MechanismError(
+                "card: need at least two points on each of the up and down strokes"
+            )
         out = []
         for bx, bw in (up, down):
             order = np.argsort(bx, kind="stable")
@@ -274,13 +279,13 @@ def torque_curve(
     jb = check_finite("beam_inertia", beam_inertia)
     jc = check_finite("crank_inertia", crank_inertia)
     if jb < 0 or jc < 0:
-        raise ValueError(f"inertias must be >= 0, got beam {jb}, crank {jc}")
+        raise MechanismError(f"inertias must be >= 0, got beam {jb}, crank {jc}")
     if isinstance(load, DynamometerCard):
         w = load.load_at(unit, theta)
     else:
         w = np.broadcast_to(np.asarray(check_finite("load", load), dtype=float), theta.shape)
     if (jb or jc) and speed is None:
-        raise ValueError("inertia torques need the crank speed (speed=...)")
+        raise MechanismError("inertia torques need the crank speed (speed=...)")
     m = unit.motion(theta, speed=speed, epsilon=epsilon if speed is not None else 0.0)
     tf = np.asarray(m.torque_factor, dtype=float)
     well = tf * (w - su)
@@ -360,7 +365,7 @@ def optimal_counterbalance(
     theta = _angles(theta)
     t0 = np.asarray(base_torque, dtype=float)
     if t0.shape != theta.shape or not np.all(np.isfinite(t0)):
-        raise ValueError("base_torque must be finite and have the shape of theta")
+        raise MechanismError("base_torque must be finite and have the shape of theta")
     phase = check_finite("phase", phase)
     s, c = np.sin(theta), np.cos(theta)
     t = cp.Variable()
@@ -445,7 +450,7 @@ def permissible_load(
     theta = _angles(theta)
     rating = check_finite("rating", rating)
     if not rating > 0:
-        raise ValueError(f"rating must be a positive torque (N m), got {rating}")
+        raise MechanismError(f"rating must be a positive torque (N m), got {rating}")
     su = check_finite("structural_unbalance", structural_unbalance)
     m = unit.motion(theta)
     tf = np.asarray(m.torque_factor, dtype=float)
@@ -474,7 +479,7 @@ def torque_factor_table(unit: BeamPumpingUnit, step_deg=15.0):
     """
     step = check_finite("step_deg", step_deg)
     if not 0 < step <= 90 or abs(360.0 / step - round(360.0 / step)) > 1e-9:
-        raise ValueError(f"step_deg must divide 360 and lie in (0, 90], got {step_deg}")
+        raise MechanismError(f"step_deg must divide 360 and lie in (0, 90], got {step_deg}")
     deg = np.arange(0.0, 360.0, step)
     theta = np.deg2rad(deg)
     m = unit.motion(theta)
