@@ -128,6 +128,7 @@ class FourBar(Mechanism):
     full_turn: bool = True
 
     parameters: ClassVar[tuple[str, ...]] = ("crank", "coupler", "rocker", "ground")
+    length_parameters: ClassVar[tuple[str, ...]] = ("crank", "coupler", "rocker", "ground")
     default_output: ClassVar[str] = "B"
 
     def __post_init__(self):

@@ -245,6 +245,8 @@ class Mechanism(Drawable):
     """
 
     parameters: ClassVar[tuple[str, ...]] = ()
+    #: the parameters that are lengths (> 0): problems refuse bounds that reach 0
+    length_parameters: ClassVar[tuple[str, ...]] = ()
     #: main output for objectives that name none ("slider" or a point name)
     default_output: ClassVar[str] = "slider"
     #: SI unit of each parameter for reports ("m" for the ones not listed)

@@ -71,6 +71,7 @@ class SliderCrank(Mechanism):
     offset: float = 0.0
 
     parameters: ClassVar[tuple[str, ...]] = ("crank", "rod", "offset")
+    length_parameters: ClassVar[tuple[str, ...]] = ("crank", "rod")
     default_output: ClassVar[str] = "slider"
 
     def __post_init__(self):

@@ -20,6 +20,7 @@ from collections.abc import Iterable, Mapping
 
 import numpy as np
 
+from .. import validate
 from ..errors import MechanismError, UsageError
 from ..kinematics.mechanism import input_grid
 from ..objectives.base import Constraint, Measure
@@ -103,17 +104,20 @@ class Problem:
                     f"{mechanism.__name__} has no parameter {name!r}; "
                     f"its parameters: {', '.join(fields)}"
                 )
-            try:
-                lo, hi = (float(b) for b in bounds)
-            except (TypeError, ValueError) as exc:
+            if isinstance(bounds, (str, bytes, Mapping)) or np.shape(bounds) != (2,):
                 raise MechanismError(
                     f"variable {name!r}: bounds must be (lower, upper), got {bounds!r}"
-                ) from exc
+                )
+            lo = validate.real(f"variable {name!r}: lower bound", bounds[0])
+            hi = validate.real(f"variable {name!r}: upper bound", bounds[1])
             if not (np.isfinite(lo) and np.isfinite(hi)) or not lo < hi:
                 raise MechanismError(
                     f"variable {name!r}: need finite lower < upper, got ({lo}, {hi})"
                 )
-            if kinds.get(name) == "length" and lo <= 0.0:
+            is_length = kinds.get(name) == "length" or name in getattr(
+                mechanism, "length_parameters", ()
+            )
+            if is_length and lo <= 0.0:
                 raise MechanismError(
                     f"variable {name!r} is a length: its lower bound must be positive, got {lo}"
                 )
@@ -134,24 +138,29 @@ class Problem:
                 f"{mechanism.__name__}: give {', '.join(missing)} as variables or fixed"
             )
         if speed is not None:
-            speed = float(speed)
-            if not np.isfinite(speed) or speed == 0.0:
+            speed = validate.real("speed", speed, "rad/s")
+            if speed == 0.0:
                 raise MechanismError(
-                    f"speed must be a finite non-zero crank speed in rad/s, got {speed}"
+                    "speed must be a finite non-zero crank speed in rad/s, got 0 (None measures "
+                    "crank-angle analogs)"
                 )
         self.speed = speed
-        if np.ndim(angles) == 0:
-            n = int(angles)
-            if n < 8:
-                raise MechanismError(f"angles: need at least 8 grid angles, got {n}")
+        if np.ndim(angles) == 0 and not isinstance(angles, (str, bytes)):
+            n = validate.integer("angles", angles, 8, validate.MAX_ANGLES)
             self.base_angles = input_grid(mechanism, n)
         else:
-            a = np.asarray(angles, dtype=float).ravel()
-            if a.size < 8 or not np.all(np.isfinite(a)):
-                raise MechanismError("angles: need at least 8 finite grid angles (rad)")
+            a = np.ravel(validate.real("angles", angles, "rad"))
+            if a.size < 8 or a.size > validate.MAX_ANGLES:
+                raise MechanismError(
+                    f"angles: need 8 to {validate.MAX_ANGLES} grid angles (rad), got {a.size}"
+                )
             self.base_angles = a
-        self.feasibility_margin = float(feasibility_margin)
-        self.tol = float(tol)
+        self.feasibility_margin = validate.nonnegative("feasibility_margin", feasibility_margin)
+        if self.feasibility_margin >= 1.0:
+            raise MechanismError(
+                f"feasibility_margin is relative: it must be below 1, got {feasibility_margin}"
+            )
+        self.tol = validate.positive("tol", tol)
         self.objective: Measure | None = None
         self.sense = "min"
         self.constraints: list[Constraint] = []

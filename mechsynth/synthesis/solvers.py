@@ -99,7 +99,7 @@ def _assess(problem, tr, run: _Run, grid):
             viol = max(viol, _rel_violation(c, float(evaluate_form(form, mech, motion))))
         for g in _hook_values(problem, mech.params()):
             viol = max(viol, float(-min(g, 0.0)))
-    except (MechanismError, ValueError, FloatingPointError):
+    except (MechanismError, ValueError, ArithmeticError):
         run.design, run.objective, run.violation = None, np.nan, np.inf
         return run
     run.design = mech
@@ -238,34 +238,49 @@ _LOCAL = {"ipopt": _ipopt, "slsqp": _slsqp}
 
 
 # ------------------------------------------------------------------------------ starts
-def _start_points(problem, tr: Transcription, starts, seed, x0):
-    """Up to ``starts`` valid start points (scaled to the box), the number skipped, and the
-    first reason a point was invalid."""
+#: Sobol points tried per start asked (at least ``_MIN_CANDIDATES``) before the solve gives up
+#: looking for valid start designs
+START_BUDGET = 8
+_MIN_CANDIDATES = 16
+
+
+def _start_points(problem, tr: Transcription, starts, seed, x0, grid):
+    """Up to ``starts`` valid start points (scaled to the box) with their scales, the number of
+    points skipped, the first reason a point was invalid and the number of points tried.
+
+    A point is valid when the mechanism builds, moves over the grid, meets its
+    ``feasibility_constraints`` and every measure of the problem evaluates to a finite number
+    there (a swing angle of a double-crank does not); invalid points are replaced by the next
+    Sobol point, up to ``START_BUDGET`` points per start asked (at least 16).
+    """
     from scipy.stats import qmc
 
-    points, skipped, reason = [], 0, ""
+    points, skipped, reason, tried = [], 0, "", 0
     candidates = []
     if x0 is not None:
         vals = [x0[k] if isinstance(x0, dict) else x0[i] for i, k in enumerate(problem.names)]
         candidates.append(tr.z_of(vals))
-    m = int(2 ** np.ceil(np.log2(max(8 * starts, 16))))
+    m = int(2 ** np.ceil(np.log2(max(START_BUDGET * starts, _MIN_CANDIDATES))))
     sob = qmc.Sobol(d=tr.n, scramble=True, seed=seed).random(m)
     candidates.extend(sob)
     for z in candidates:
         if len(points) >= starts:
             break
+        tried += 1
         try:
             mech = _design(problem, tr, z)
-            mech.motion(problem.base_angles, speed=problem.speed)
             bad = [g for g in _hook_values(problem, mech.params()) if float(g) < 0.0]
             if bad:
                 raise MechanismError("violates the mechanism's feasibility constraints")
-        except (MechanismError, ValueError) as exc:
+            scales, tau0 = _scales(problem, tr, z, grid)
+            if not (np.all(np.isfinite(tau0)) and all(np.all(np.isfinite(s)) for s in scales)):
+                raise MechanismError("a measure is not finite at this design")
+        except (MechanismError, ValueError, ArithmeticError) as exc:
             skipped += 1
             reason = reason or str(exc)
             continue
-        points.append(np.asarray(z, dtype=float))
-    return points, skipped, reason
+        points.append((np.asarray(z, dtype=float), scales, tau0))
+    return points, skipped, reason, tried
 
 
 def _progress(iterable, total, progress, desc):
@@ -419,16 +434,16 @@ def solve(
     """Solve ``problem``; see :meth:`Problem.solve` for the arguments."""
     t_start = time.perf_counter()
     if problem.objective is None:
-        raise ValueError("the problem has no objective: call minimize(...) or maximize(...)")
+        raise MechanismError("the problem has no objective: call minimize(...) or maximize(...)")
     if method not in ("ipopt", "slsqp", "de"):
-        raise ValueError(f"method must be 'ipopt', 'slsqp' or 'de', got {method!r}")
+        raise MechanismError(f"method must be 'ipopt', 'slsqp' or 'de', got {method!r}")
     if method != "de":
         why = problem._smooth_error()
         if why is not None:
             raise why
-    starts = int(starts)
-    if starts < 1:
-        raise ValueError(f"starts must be at least 1, got {starts}")
+    starts, x0 = _check_options(
+        problem, method, starts, seed, rtol, max_rounds, n_dense, options, x0, de_options
+    )
     cross = None
     local_method = method
     if method == "de":
@@ -443,13 +458,12 @@ def solve(
 
     tr = problem._transcription(16)
     grid = problem.base_angles
-    points, skipped, reason = _start_points(problem, tr, starts, seed, x0)
+    points, skipped, reason, tried = _start_points(problem, tr, starts, seed, x0, grid)
     if not points:
         return _failed_result(problem, method, starts, skipped, reason, t_start)
     runs: list[_Run] = []
     local = _LOCAL[local_method]
-    for z0 in _progress(points, len(points), progress, f"{local_method} starts"):
-        scales, tau0 = _scales(problem, tr, z0, grid)
+    for z0, scales, tau0 in _progress(points, len(points), progress, f"{local_method} starts"):
         P = tr.parameter_vector(grid, *scales)
         x, status, raw, it, lam = local(tr, np.concatenate([z0, tau0]), P, options)
         runs.append(_assess(problem, tr, _Run(x, status, raw, it, scales, lam), grid))
@@ -485,6 +499,16 @@ def solve(
     else:
         status = best.status
     message = _message(status, best, violated, cert, certified)
+    if cross is not None and status not in ("optimal", "uncertified"):
+        # the polish failed: report differential evolution's own design, uncertified
+        return _de_result(
+            problem, cross, z_de, rtol, n_dense, t_start, polish_failed=f"{status}: {best.raw}"
+        )
+    if len(runs) < starts:
+        message += (
+            f"; {len(runs)} of {starts} starts ran: only {len(runs)} valid start designs among "
+            f"{tried} points tried (first invalid: {reason})"
+        )
     local_optima = tuple(sorted(optima))
     spread = 0.0
     if len(local_optima) > 1:
@@ -527,6 +551,127 @@ def solve(
         solve_time=time.perf_counter() - t_start,
         speed=problem.speed,
     )
+
+
+# ------------------------------------------------------------------------------ options
+#: SLSQP options scipy knows
+_SLSQP_OPTIONS = ("maxiter", "ftol", "eps", "disp", "iprint", "finite_diff_rel_step")
+
+
+def _check_options(problem, method, starts, seed, rtol, max_rounds, n_dense, options, x0, de):
+    """Every option of :meth:`Problem.solve` checked before any work: a clear MechanismError
+    naming the option, its value and the rule. Returns ``(starts, x0)`` normalized."""
+    from collections.abc import Mapping
+
+    from .. import validate
+
+    starts = validate.integer("starts", starts, 1, validate.MAX_STARTS)
+    if seed is not None:
+        validate.integer("seed", seed, 0)
+    validate.positive("rtol", rtol)
+    validate.integer("max_rounds", max_rounds, 0, 1000)
+    validate.integer("n_dense", n_dense, 16, validate.MAX_ANGLES)
+    for name, value in (("options", options), ("de_options", de)):
+        if value is None:
+            continue
+        if not isinstance(value, Mapping):
+            raise MechanismError(f"{name} must be a dict of option names and values, got {value!r}")
+        for k, v in value.items():
+            if not isinstance(k, str):
+                raise MechanismError(f"{name}: option names must be strings, got {k!r}")
+            if name == "options" and not isinstance(v, (str, int, float)):
+                raise MechanismError(f"options: {k} must be a number or a string, got {v!r}")
+    if options is not None and method == "slsqp":
+        unknown = sorted(set(options) - set(_SLSQP_OPTIONS))
+        if unknown:
+            raise MechanismError(
+                f"options: unknown SLSQP option(s) {', '.join(unknown)}; valid: "
+                + ", ".join(_SLSQP_OPTIONS)
+            )
+    if options is not None and method in ("ipopt", "de"):
+        _check_ipopt_options(options)
+    if x0 is not None:
+        names = problem.names
+        if isinstance(x0, Mapping):
+            missing = [k for k in names if k not in x0]
+            extra = sorted(set(x0) - set(names))
+            if missing or extra:
+                raise MechanismError(
+                    "x0 must give every variable and nothing else: "
+                    + (f"missing {', '.join(missing)}" if missing else "")
+                    + ("; " if missing and extra else "")
+                    + (f"not variables: {', '.join(extra)}" if extra else "")
+                    + f" (variables: {', '.join(names)})"
+                )
+            values = [x0[k] for k in names]
+        else:
+            if isinstance(x0, (str, bytes)) or np.ndim(x0) != 1 or len(x0) != len(names):
+                raise MechanismError(
+                    f"x0 must be a dict {{name: value}} or {len(names)} values in the order "
+                    f"{', '.join(names)}, got {x0!r}"
+                )
+            values = list(x0)
+        for k, v in zip(names, values):
+            v = validate.real(f"x0[{k!r}]", v)
+            lo, hi = problem.variables[k]
+            if not lo <= v <= hi:
+                raise MechanismError(f"x0[{k!r}] = {v} is outside its bounds ({lo}, {hi})")
+        x0 = dict(zip(names, map(float, values)))
+    return starts, x0
+
+
+class _quiet_stdout:
+    """Silence output written by C code to the process's stdout (file descriptor 1)."""
+
+    def __enter__(self):
+        import os
+        import sys
+
+        sys.stdout.flush()
+        self._saved = os.dup(1)
+        self._null = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(self._null, 1)
+
+    def __exit__(self, *exc):
+        import os
+
+        os.dup2(self._saved, 1)
+        os.close(self._saved)
+        os.close(self._null)
+        return False
+
+
+def _check_ipopt_options(options):
+    """IPOPT refuses unknown names and bad values only when it runs (with a status the user
+    cannot read): ask it here, on a one-variable problem, and name the offenders."""
+    import casadi as ca
+
+    x = ca.SX.sym("x")
+    opts = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes"}
+    opts.update({f"ipopt.{k}": v for k, v in options.items()})
+    try:
+        with _quiet_stdout():  # IPOPT prints its option documentation on a bad value
+            solver = ca.nlpsol("check", "ipopt", {"x": x, "f": x * x}, opts)
+            solver(x0=1.0)
+    except RuntimeError as exc:
+        import re
+
+        lines = [
+            re.sub(r"^\S*\.(cpp|hpp):\d+:\s*", "", ln).strip()
+            for ln in str(exc).splitlines()
+            if ln.strip()
+        ]
+        why = lines[-1] if lines else "refused"
+        raise MechanismError(
+            f"options: IPOPT refuses {dict(options)!r}: {why} (IPOPT options go without the "
+            "'ipopt.' prefix, e.g. {'max_iter': 200})"
+        ) from None
+    raw = solver.stats().get("return_status", "")
+    if raw in ("Invalid_Option", "Invalid_Problem_Definition"):
+        raise MechanismError(
+            f"options: IPOPT refuses {dict(options)!r} (unknown option name or bad value; "
+            "give IPOPT options without the 'ipopt.' prefix, e.g. {'max_iter': 200})"
+        )
 
 
 # ------------------------------------------------------------------------------ selection
@@ -639,7 +784,10 @@ def _failed_result(problem, method, starts, skipped, reason, t_start):
         constraints=(),
         success=False,
         status="solver_failed",
-        message=f"no valid start design in the box ({skipped} points tried; first: {reason})",
+        message=(
+            f"no valid design found in the bounds: {skipped} points tried, none can be built "
+            f"and evaluated (first: {reason})"
+        ),
         certification=cert,
         solve_time=time.perf_counter() - t_start,
         speed=problem.speed,
@@ -771,9 +919,10 @@ def _differential_evolution(problem, seed, progress, opts):
     return cross, z
 
 
-def _de_result(problem, cross, z, rtol, n_dense, t_start, skipped=None):
+def _de_result(problem, cross, z, rtol, n_dense, t_start, skipped=None, polish_failed=None):
     """Result of differential evolution alone (no local polish): true peaks at its design.
-    ``skipped`` is the reason the polish could not run (a measure without a CasADi form)."""
+    ``skipped`` is the reason the polish could not run (a measure without a CasADi form),
+    ``polish_failed`` how the polish ended when it ran and failed."""
     cert = _Certifier(problem, "ipopt", None, rtol, 0, n_dense, tr=problem._numeric())
     tr = cert.tr
     run = _assess(
@@ -811,6 +960,11 @@ def _de_result(problem, cross, z, rtol, n_dense, t_start, skipped=None):
         msg = (
             "differential evolution only, local polish skipped (the problem has no smooth "
             f"CasADi form: {skipped.split(' (')[0]}): no optimality certificate"
+        )
+    if polish_failed:
+        msg = (
+            f"differential evolution's design; its IPOPT polish failed ({polish_failed}): no "
+            "optimality certificate"
         )
     if violated:
         msg += "; violated " + "; ".join(f"{c.name} (value {c.value:.6g})" for c in violated)
