@@ -61,7 +61,7 @@ def test_bounds_without_any_valid_design_are_reported_as_such():
     prob.minimize(ob.peak_acceleration("slider"))
     res = prob.solve(starts=2)
     assert res.status == "solver_failed" and not res.success
-    assert "no valid design found in the bounds" in res.message
+    assert "no valid start design found in the bounds" in res.message
     assert "cannot make a full turn" in res.message
     assert res.certification.starts_run == 0
 

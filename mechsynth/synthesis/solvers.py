@@ -785,7 +785,7 @@ def _failed_result(problem, method, starts, skipped, reason, t_start):
         success=False,
         status="solver_failed",
         message=(
-            f"no valid design found in the bounds: {skipped} points tried, none can be built "
+            f"no valid start design found in the bounds: {skipped} points tried, none can be built "
             f"and evaluated (first: {reason})"
         ),
         certification=cert,
