@@ -23,6 +23,8 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
+from .errors import MechanismError
+
 __all__ = ["Option", "Options", "chart_options", "takes_options"]
 
 #: option kinds and how their values are written on the command line
@@ -75,7 +77,7 @@ class Option:
         if not self.kind:
             object.__setattr__(self, "kind", _kind_of(self.default))
         if self.kind not in KINDS:
-            raise ValueError(f"option {self.name}: unknown kind {self.kind!r}")
+            raise MechanismError(f"option {self.name}: unknown kind {self.kind!r}")
 
     @property
     def label(self) -> str:
@@ -85,7 +87,7 @@ class Option:
 
     def _fail(self, owner, value, rule):
         where = f"{owner}: " if owner else ""
-        raise ValueError(f"{where}option {self.label} must be {rule}, got {value!r}")
+        raise MechanismError(f"{where}option {self.label} must be {rule}, got {value!r}")
 
     def _number(self, value, owner, integer):
         rule = "an integer" if integer else "a finite number"
@@ -192,7 +194,7 @@ class Options:
     def __init__(self, *options: Option):
         names = [o.name for o in options]
         if len(set(names)) != len(names):
-            raise ValueError(f"duplicate option names in {names}")
+            raise MechanismError(f"duplicate option names in {names}")
         self._options = {o.name: o for o in options}
 
     def __iter__(self):
@@ -220,13 +222,13 @@ class Options:
         if unknown:
             valid = ", ".join(self._options) or "none"
             s = "s" if len(unknown) > 1 else ""
-            raise ValueError(f"{where}unknown option{s} {', '.join(unknown)}; options: {valid}")
+            raise MechanismError(f"{where}unknown option{s} {', '.join(unknown)}; options: {valid}")
         values = {}
         for opt in self:
             if opt.name in given:
                 values[opt.name] = opt.read(given[opt.name], owner)
             elif opt.required:
-                raise ValueError(f"{where}option {opt.label} is required ({opt.help})")
+                raise MechanismError(f"{where}option {opt.label} is required ({opt.help})")
             else:
                 values[opt.name] = opt.default
         return values

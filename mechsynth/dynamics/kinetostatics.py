@@ -183,7 +183,7 @@ class ForceResult:
     def driving_force(self):
         """The driving force (N) of a linear input along its guide at every input."""
         if self.drive != "force":
-            raise ValueError("the input is a crank: its drive is the balancing torque (torque)")
+            raise MechanismError("the input is a crank: its drive is the balancing torque (torque)")
         return self.torque
 
     def magnitude(self, joint: str):

@@ -426,7 +426,7 @@ class Linkage(Drawable):
 
     def _require_no_driver(self):
         if self._groups and isinstance(self._groups[0], CrankGroup | SliderDriverGroup):
-            raise ValueError(
+            raise MechanismError(
                 f"the linkage has a driver already ({self._groups[0].label}): one driver"
             )
 
@@ -1179,7 +1179,7 @@ class Linkage(Drawable):
 
     def _require_crank_input(self, what):
         if self.driver != "crank":
-            raise ValueError(
+            raise MechanismError(
                 f"{what} of {self._name}: defined for a crank input only; this linkage is "
                 "driven by a slider (its cycle is its travel, not a turn)"
             )
@@ -1370,9 +1370,9 @@ def _travel(travel, what) -> tuple[float, float]:
     try:
         lo, hi = (float(t) for t in travel)
     except (TypeError, ValueError):
-        raise ValueError(f"{what}: travel must be (lo, hi) in m, got {travel!r}") from None
+        raise MechanismError(f"{what}: travel must be (lo, hi) in m, got {travel!r}") from None
     if not (np.isfinite(lo) and np.isfinite(hi)) or not lo < hi:
-        raise ValueError(f"{what}: travel must be finite with lo < hi (m), got ({lo}, {hi})")
+        raise MechanismError(f"{what}: travel must be finite with lo < hi (m), got ({lo}, {hi})")
     return lo, hi
 
 
