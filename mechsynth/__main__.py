@@ -1,6 +1,12 @@
+import os
 import sys
 
-from .cli import main
+from .cli import EXIT_INTERRUPTED, main
 
 if __name__ == "__main__":
-    sys.exit(main())
+    rc = main()
+    if rc == EXIT_INTERRUPTED:  # a second Ctrl-C during shutdown must not turn it into a signal
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(rc)
+    sys.exit(rc)

@@ -1,13 +1,18 @@
 """The ``mechsynth`` command line.
 
 Every command has ``--help``; commands that compute write figures and tables into ``--out DIR``
-and print machine-readable results with ``--json``. A failed or infeasible optimization exits
-with status 2; bad input exits with status 1 and a one-line message.
+and print machine-readable results with ``--json``.
+
+Exit codes: 0 success; 1 bad input or usage (a one-line message, argparse's usage errors
+included); 2 a solve that failed or ended infeasible; 3 an internal error (a bug: please report
+it, with the traceback ``--debug`` shows); 130 interrupted by Ctrl-C. No Python traceback
+reaches the terminal unless ``--debug`` is given.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import sys
 
 from . import __version__
@@ -16,8 +21,30 @@ from .jsonutil import dumps
 
 __all__ = ["main", "build_parser"]
 
+EXIT_OK = 0
 EXIT_BAD_INPUT = 1
 EXIT_FAILED = 2
+EXIT_INTERNAL = 3
+EXIT_INTERRUPTED = 130
+
+EXIT_CODES = (
+    "exit codes: 0 success; 1 bad input or usage (one line on stderr); 2 a solve failed or "
+    "ended infeasible; 3 internal error (a bug: --debug shows its traceback); 130 interrupted "
+    "(Ctrl-C). Give --debug anywhere for Python tracebacks."
+)
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with mechsynth's exit codes: a usage error exits 1 (bad input), not 2 (which
+    means a failed solve), and every subcommand's help lists the exit codes."""
+
+    def __init__(self, *args, **kwargs):
+        kwargs.setdefault("epilog", EXIT_CODES)
+        super().__init__(*args, **kwargs)
+
+    def error(self, message):
+        self.print_usage(sys.stderr)
+        self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message}\n")
 
 
 UNITS = ("si", "mm-deg", "oilfield")
@@ -516,11 +543,16 @@ def _explore_run(args) -> int:
 
 # ------------------------------------------------------------------------------- main
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="mechsynth",
         description="Optimization-based mechanism synthesis: analysis, optimization, charts.",
     )
     parser.add_argument("--version", action="version", version=f"mechsynth {__version__}")
+    parser.add_argument(
+        "--debug",
+        action="store_true",
+        help="show the Python traceback of an error (accepted anywhere on the line)",
+    )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     _add_study(sub)
     _add_chart(sub)
@@ -531,18 +563,112 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+#: set by the SIGINT handler of :func:`main` (an interrupt inside a C extension's import may
+#: surface as another error)
+_INTERRUPTED: list[int] = []
+
+
 def main(argv=None) -> int:
+    """Run the command line; returns the exit code (see the module notes). Never raises
+    (``SystemExit`` of ``--help`` and ``--version`` aside) and prints no traceback unless
+    ``--debug`` is given."""
+    import signal
+    import threading
+
+    argv = list(sys.argv[1:] if argv is None else argv)
+    debug = "--debug" in argv
+    argv = [a for a in argv if a != "--debug"]
+    _INTERRUPTED.clear()
+
+    def on_sigint(signum, frame):
+        _INTERRUPTED.append(signum)
+        signal.default_int_handler(signum, frame)
+
+    previous = None
+    if threading.current_thread() is threading.main_thread():
+        previous = signal.signal(signal.SIGINT, on_sigint)
+    try:
+        rc = _run(argv, debug)
+        return _interrupted() if _INTERRUPTED and not debug else rc
+    except KeyboardInterrupt:
+        if debug:
+            raise
+        return _interrupted()
+    except BrokenPipeError:  # the reader of our output went away (| head)
+        import os
+
+        with contextlib.suppress(OSError):
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_OK
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGINT, previous)
+
+
+def _interrupted() -> int:
+    print(
+        "\nmechsynth: interrupted (Ctrl-C); files being written were left as they were",
+        file=sys.stderr,
+    )
+    return EXIT_INTERRUPTED
+
+
+def _run(argv, debug) -> int:
     from . import display, progress
+    from .fileio import output_dir
 
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
+        if getattr(args, "out", None) is not None:
+            output_dir(args.out, create=False)
         with display.display_units(getattr(args, "units", None) or "si"):
             with progress.quiet(getattr(args, "quiet", False) or progress.is_quiet()):
                 return int(args.func(args) or 0)
-    except (MechanismError, ValueError, SolverError, FileNotFoundError) as exc:
-        print(f"mechsynth: error: {exc}", file=sys.stderr)
-        return EXIT_BAD_INPUT
+    except Exception as exc:
+        if debug:
+            raise
+        if _INTERRUPTED or _was_interrupted(exc):
+            raise KeyboardInterrupt from exc
+        if isinstance(exc, BrokenPipeError):
+            raise
+        return _report(exc)
+
+
+def _report(exc) -> int:
+    """One line on stderr for an error, and its exit code."""
+    if isinstance(exc, (MechanismError, ValueError, SolverError)):
+        _error(exc)
+    elif isinstance(exc, OSError):  # a file that cannot be read or written
+        where = f" {exc.filename}" if getattr(exc, "filename", None) else ""
+        _error(f"{exc.strerror or exc}{where}")
+    elif isinstance(exc, MemoryError):
+        _error("out of memory: ask for fewer designs, angles or grid points")
+    elif isinstance(exc, RecursionError):
+        _error("input nested too deeply")
+    else:  # a bug: say so in one line
+        _error(
+            f"internal error ({type(exc).__name__}: {exc}); run again with --debug for the "
+            "traceback and please report it"
+        )
+        return EXIT_INTERNAL
+    return EXIT_BAD_INPUT
+
+
+def _was_interrupted(exc) -> bool:
+    """True when a KeyboardInterrupt lies in ``exc``'s chain."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, KeyboardInterrupt):
+            return True
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return False
+
+
+def _error(exc) -> None:
+    text = " ".join(str(exc).split()) or type(exc).__name__
+    print(f"mechsynth: error: {text}", file=sys.stderr)
 
 
 if __name__ == "__main__":  # pragma: no cover

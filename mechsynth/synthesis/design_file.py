@@ -17,7 +17,6 @@ Parameters left out take the class's defaults (the nail header has all of paper 
 from __future__ import annotations
 
 import dataclasses
-import tomllib
 from pathlib import Path
 from typing import Any
 
@@ -58,16 +57,12 @@ class DesignSpec:
     source: Path | None = None
 
 
-def read_toml(source) -> tuple[dict, Path | None]:
-    """``(data, path)`` of a TOML file (``path`` None when ``source`` is a dict already)."""
-    if isinstance(source, dict):
-        return source, None
-    path = Path(source)
-    with open(path, "rb") as fh:
-        try:
-            return tomllib.load(fh), path
-        except tomllib.TOMLDecodeError as exc:
-            raise MechanismError(f"{path}: not valid TOML ({exc})") from exc
+def read_toml(source, what: str = "design file") -> tuple[dict, Path | None]:
+    """``(data, path)`` of a TOML file (``path`` None when ``source`` is a dict already):
+    :func:`mechsynth.fileio.read_toml` (regular UTF-8 files only, one-line errors)."""
+    from ..fileio import read_toml as _read_toml
+
+    return _read_toml(source, what)
 
 
 def load_design(source) -> DesignSpec:

@@ -61,12 +61,10 @@ A problem file uses it with ``mechanism = "linkage"`` and either these tables in
 
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import MechanismError
 from ..kinematics.curves import Circle, Involute
 from ..kinematics.linkage import Linkage, Param
 from ..options import Option, chart_options
@@ -352,12 +350,9 @@ def linkage_from_data(data: dict, where: str = "") -> Linkage:
 
 
 def _read(path) -> dict:
-    path = Path(path)
-    try:
-        with open(path, "rb") as fh:
-            return tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise MechanismError(f"{path}: not valid TOML ({exc})") from None
+    from ..fileio import read_toml
+
+    return read_toml(path, "linkage file")[0]
 
 
 def load_linkage(path) -> Linkage:

@@ -45,14 +45,13 @@ SI; a unit that is not listed is an error.
 from __future__ import annotations
 
 import re
-import tomllib
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .. import load_registrations
+from .. import load_registrations, validate
 from ..errors import MechanismError
+from ..fileio import read_toml
 from ..kinematics import FourBar, SliderCrank
 from ..objectives.base import Constraint, Measure
 from ..objectives.kinematic import KINEMATIC_MEASURES
@@ -99,6 +98,42 @@ UNITS: dict[str, float] = {
 }
 
 
+#: unit -> the SI unit it converts to (its dimension); a bare number is SI of whatever is asked
+UNIT_SI: dict[str, str] = {
+    "": "",
+    "m": "m",
+    "mm": "m",
+    "cm": "m",
+    "in": "m",
+    "inch": "m",
+    "rad": "rad",
+    "deg": "rad",
+    "m/s": "m/s",
+    "m/s^2": "m/s^2",
+    "m/s2": "m/s^2",
+    "rad/s": "rad/s",
+    "rad/s^2": "rad/s^2",
+    "rad/s2": "rad/s^2",
+    "rpm": "rad/s",
+    "spm": "rad/s",
+    "1": "1",
+}
+
+_DIMENSION = {
+    "m": "a length",
+    "rad": "an angle",
+    "m/s": "a velocity",
+    "m/s^2": "an acceleration",
+    "rad/s": "an angular velocity",
+    "rad/s^2": "an angular acceleration",
+    "1": "a pure number",
+}
+
+
+def _units_for(si: str) -> str:
+    return ", ".join(u for u, v in UNIT_SI.items() if u and v == si) or "none"
+
+
 def register_mechanism(name: str, cls) -> None:
     """Make ``cls`` available as ``mechanism = "name"`` in problem files. An object with
     ``from_problem_data(data, path)`` instead builds the mechanism from the file's own tables
@@ -114,21 +149,33 @@ def register_measure(name: str, factory) -> None:
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 
 
-def parse_quantity(text, what: str = "value") -> float:
-    """A number (SI) or a string ``"<number> <unit>"`` -> float in SI units."""
-    if isinstance(text, bool):
-        raise MechanismError(f"{what}: expected a number, got {text!r}")
+def parse_quantity(text, what: str = "value", unit: str | None = None) -> float:
+    """A number (SI) or a string ``"<number> <unit>"`` -> float in SI units.
+
+    ``unit``: the SI unit the value must have (``"m"``, ``"rad"``, ``"rad/s"``, ``""`` for a
+    pure number, None for any): a unit of another dimension (``speed = "600 m"``, a stroke in
+    degrees) is an error naming the units that fit. Non-finite values are refused.
+    """
+    if isinstance(text, bool) or not isinstance(text, (int, float, str)):
+        raise MechanismError(f"{what}: expected a number or '<number> <unit>', got {text!r}")
     if isinstance(text, (int, float)):
-        return float(text)
-    m = re.fullmatch(rf"\s*({_NUMBER})\s*([A-Za-z/^0-9]*)\s*", str(text))
+        return validate.real(what, text)
+    m = re.fullmatch(rf"\s*({_NUMBER})\s*([A-Za-z/^0-9]*)\s*", text)
     if not m:
         raise MechanismError(f"{what}: expected '<number> [unit]', got {text!r}")
-    unit = m.group(2)
-    if unit not in UNITS:
+    given = m.group(2)
+    if given not in UNITS:
         raise MechanismError(
-            f"{what}: unknown unit {unit!r} in {text!r}; known: {', '.join(UNITS)}"
+            f"{what}: unknown unit {given!r} in {text!r}; known: {', '.join(u for u in UNITS if u)}"
         )
-    return float(m.group(1)) * UNITS[unit]
+    si = UNIT_SI.get(given, "")
+    if unit is not None and given and si != (unit or "1") and not (si == "1" and unit == ""):
+        expected = _DIMENSION.get(unit or "1", unit)
+        raise MechanismError(
+            f"{what}: {text!r} is {_DIMENSION.get(si, si)}, expected {expected} "
+            f"({unit or 'no unit'}; units: {_units_for(unit or '1')})"
+        )
+    return validate.real(what, float(m.group(1)) * UNITS[given])
 
 
 def _parse_arg(token: str):
@@ -166,8 +213,18 @@ def parse_measure(text: str) -> Measure:
         raise MechanismError(f"measure {text!r}: {exc}") from exc
 
 
+def _expected_unit(measure) -> str | None:
+    """The SI unit a bound of ``measure`` must have, None when it is not one of the checked
+    dimensions (a bare number is then taken as SI)."""
+    unit = getattr(measure, "unit", None)
+    if unit == "":
+        return ""
+    return unit if unit in _DIMENSION else None
+
+
 def parse_constraint(spec) -> Constraint:
-    """A constraint from ``"measure <op> number [unit]"`` or a table (see the module notes)."""
+    """A constraint from ``"measure <op> number [unit]"`` or a table (see the module notes).
+    The bound's unit must fit the measure (no stroke in degrees, no angle in mm)."""
     if isinstance(spec, dict):
         known = {"measure", "args", "kwargs", "op", "value", "unit"}
         extra = set(spec) - known
@@ -179,23 +236,43 @@ def parse_constraint(spec) -> Constraint:
             name, op, value = spec["measure"], spec["op"], spec["value"]
         except KeyError as exc:
             raise MechanismError(f"constraint table needs measure, op and value: {spec!r}") from exc
-        if name not in MEASURES:
+        if isinstance(name, str) and name not in MEASURES:
             load_registrations()
-        if name not in MEASURES:
+        if not isinstance(name, str) or name not in MEASURES:
             raise MechanismError(f"unknown measure {name!r}; known: {', '.join(sorted(MEASURES))}")
-        measure = MEASURES[name](*spec.get("args", []), **spec.get("kwargs", {}))
+        args, kwargs = spec.get("args", []), spec.get("kwargs", {})
+        if not isinstance(args, list) or not isinstance(kwargs, dict):
+            raise MechanismError(
+                f"constraint {name}: args must be a list and kwargs a table, got {args!r}, "
+                f"{kwargs!r}"
+            )
+        try:
+            measure = MEASURES[name](*args, **kwargs)
+        except TypeError as exc:
+            raise MechanismError(f"constraint {name}: {exc}") from None
         unit = spec.get("unit", "")
-        if unit not in UNITS:
-            raise MechanismError(f"constraint {name}: unknown unit {unit!r}")
-        bound = float(value) * UNITS[unit]
+        if not isinstance(unit, str) or unit not in UNITS:
+            raise MechanismError(
+                f"constraint {name}: unknown unit {unit!r}; known: "
+                + ", ".join(u for u in UNITS if u)
+            )
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise MechanismError(f"constraint {name}: value must be a number, got {value!r}")
+        bound = parse_quantity(
+            f"{float(value)!r} {unit}".strip(), f"constraint {name}", _expected_unit(measure)
+        )
     else:
-        m = re.fullmatch(r"(.*?)\s*(<=|>=|==)\s*(.+)", str(spec))
+        if not isinstance(spec, str):
+            raise MechanismError(
+                f"a constraint is a string 'measure <= value' or a table, got {spec!r}"
+            )
+        m = re.fullmatch(r"(.*?)\s*(<=|>=|==)\s*(.+)", spec)
         if not m:
             raise MechanismError(
                 f"cannot read the constraint {spec!r}: expected 'measure <= value'"
             )
         measure, op = parse_measure(m.group(1)), m.group(2)
-        bound = parse_quantity(m.group(3), f"constraint {spec!r}")
+        bound = parse_quantity(m.group(3), f"constraint {spec!r}", _expected_unit(measure))
     if op not in ("<=", ">=", "=="):
         raise MechanismError(f"constraint operator must be <=, >= or ==, got {op!r}")
     return Constraint(measure, op, bound)
@@ -237,62 +314,100 @@ _TOP_KEYS = {
 }
 
 
+def _table(data, key, where) -> dict:
+    value = data.get(key) or {}
+    if not isinstance(value, dict):
+        raise MechanismError(
+            f"{where}{key} must be a table ([{key}] with name = value lines), got {value!r}"
+        )
+    return value
+
+
+def _unit_of(mechanism, name) -> str | None:
+    """SI unit of a mechanism's parameter for checking file units (None: not known)."""
+    fn = getattr(mechanism, "unit_of", None) or getattr(mechanism, "parameter_unit", None)
+    if fn is None:
+        return None
+    try:
+        unit = fn(name)
+    except (KeyError, ValueError, TypeError):
+        return None
+    return unit if unit in _DIMENSION else None
+
+
 def load_problem(source) -> ProblemSpec:
-    """Read a problem file (a path, or a dict already parsed from TOML)."""
-    if isinstance(source, dict):
-        data, path = source, None
-    else:
-        path = Path(source)
-        with open(path, "rb") as fh:
-            try:
-                data = tomllib.load(fh)
-            except tomllib.TOMLDecodeError as exc:
-                raise MechanismError(f"{path}: not valid TOML ({exc})") from exc
+    """Read a problem file (a path, or a dict already parsed from TOML).
+
+    The schema (see the module notes): every top-level key has a type and a range (``starts``
+    a whole number 1..10,000, ``angles`` 8..1,000,000, ``seed`` >= 0, ``method`` one of
+    ipopt/slsqp/de, ``speed`` an angular velocity, ``[variables]`` and ``[fixed]`` tables whose
+    values have the parameter's dimension); unknown keys are refused with the valid ones
+    listed. Every failure is a one-line MechanismError naming the file and the key.
+    """
+    data, path = read_toml(source, "problem file")
     where = f"{path}: " if path else ""
     name = data.get("mechanism")
-    if name not in MECHANISMS:
+    if isinstance(name, str) and name not in MECHANISMS:
         load_registrations()  # the machines register their mechanisms when imported
     # a mechanism read from the file's own tables (a linkage) declares them
     kind = MECHANISMS.get(name) if isinstance(name, str) else None
-    unknown = set(data) - _TOP_KEYS - set(getattr(kind, "file_keys", ()))
+    valid = _TOP_KEYS | set(getattr(kind, "file_keys", ()))
+    unknown = set(data) - valid
     if unknown:
         raise MechanismError(
-            f"{where}unknown keys {sorted(unknown)} (a key written after a [table] header "
-            "belongs to that table: put top-level keys first)"
+            f"{where}unknown keys {sorted(unknown)}; a problem file has {sorted(valid)} (a key "
+            "written after a [table] header belongs to that table: put top-level keys first)"
         )
-    if name not in MECHANISMS:
+    if not isinstance(name, str) or name not in MECHANISMS:
         raise MechanismError(
             f"{where}mechanism must be one of {', '.join(sorted(MECHANISMS))}, got {name!r}"
         )
-    variables = {}
-    for k, bounds in (data.get("variables") or {}).items():
-        if not isinstance(bounds, list) or len(bounds) != 2:
-            raise MechanismError(f"{where}variable {k!r}: expected [lower, upper], got {bounds!r}")
-        variables[k] = tuple(parse_quantity(b, f"variable {k!r}") for b in bounds)
-    fixed = {}
-    for k, v in (data.get("fixed") or {}).items():
-        text = isinstance(v, bool) or k in _TEXT_FIXED
-        fixed[k] = v if text else parse_quantity(v, f"fixed {k!r}")
-    speed = data.get("speed")
-    speed = None if speed is None else parse_quantity(speed, "speed")
+    for key in ("minimize", "maximize", "title"):
+        if key in data and not isinstance(data[key], str):
+            raise MechanismError(f"{where}{key} must be a string, got {data[key]!r}")
+    try:
+        return _build(data, name, where, path)
+    except MechanismError as exc:
+        text = str(exc)
+        raise MechanismError(
+            text if not where or text.startswith(where) else where + text
+        ) from None
+
+
+def _build(data, name, where, path) -> ProblemSpec:
     mechanism = MECHANISMS[name]
     if hasattr(mechanism, "from_problem_data"):
         mechanism = mechanism.from_problem_data(data, path)
-    prob = Problem(mechanism, variables, fixed, speed=speed, angles=int(data.get("angles", 64)))
+    variables = {}
+    for k, bounds in _table(data, "variables", where).items():
+        if not isinstance(bounds, list) or len(bounds) != 2:
+            raise MechanismError(f"variable {k!r}: expected [lower, upper], got {bounds!r}")
+        unit = _unit_of(mechanism, k)
+        variables[k] = tuple(parse_quantity(b, f"variable {k!r}", unit) for b in bounds)
+    fixed = {}
+    for k, v in _table(data, "fixed", where).items():
+        text = isinstance(v, bool) or k in _TEXT_FIXED
+        fixed[k] = v if text else parse_quantity(v, f"fixed {k!r}", _unit_of(mechanism, k))
+    speed = data.get("speed")
+    speed = None if speed is None else parse_quantity(speed, "speed", "rad/s")
+    angles = data.get("angles", 64)
+    angles = validate.integer("angles", angles, 8, validate.MAX_ANGLES)
+    prob = Problem(mechanism, variables, fixed, speed=speed, angles=angles)
     if ("minimize" in data) == ("maximize" in data):
-        raise MechanismError(f"{where}give exactly one of minimize = '...' or maximize = '...'")
+        raise MechanismError("give exactly one of minimize = '...' or maximize = '...'")
     if "minimize" in data:
         prob.minimize(parse_measure(data["minimize"]))
     else:
         prob.maximize(parse_measure(data["maximize"]))
     constraints = data.get("constraints", [])
     if not isinstance(constraints, list):
-        raise MechanismError(
-            f"{where}constraints must be a list of strings or [[constraints]] tables"
-        )
+        raise MechanismError("constraints must be a list of strings or [[constraints]] tables")
     prob.subject_to(*[parse_constraint(c) for c in constraints])
     opts = {}
-    for key in ("method", "starts", "seed"):
-        if key in data:
-            opts[key] = data[key]
+    if "method" in data:
+        opts["method"] = validate.option("method", data["method"], ("ipopt", "slsqp", "de"))
+    if "starts" in data:
+        opts["starts"] = validate.integer("starts", data["starts"], 1, validate.MAX_STARTS)
+    if "seed" in data:
+        opts["seed"] = validate.integer("seed", data["seed"], 0)
     return ProblemSpec(prob, opts, path)

@@ -31,7 +31,6 @@ and SPM, ``--units si`` m, N, N m and rad/s, ``--units mm-deg`` mm, N and N m.
 from __future__ import annotations
 
 import csv
-import tomllib
 from pathlib import Path
 from typing import Any
 
@@ -88,20 +87,20 @@ OUTPUT_UNITS = {
 }
 
 
+#: fastest pumping speed accepted (strokes per minute); beam units run at about 2 to 20
+MAX_SPM = 60.0
+#: card stroke / unit stroke accepted (the card is scaled onto the unit's stroke)
+CARD_STROKE_RATIO = (0.5, 2.0)
+
+
 def load_unit(source) -> tuple[BeamPumpingUnit, dict[str, Any]]:
     """Read a unit file (path or dict). Returns the unit and the operating data in SI:
     ``speed`` (rad/s), ``spm``, ``structural_unbalance`` (N), ``phase`` (rad), ``free_phase``,
     ``rating`` (N m or None), ``load_units`` ("in" or "m"), ``designation``."""
-    if isinstance(source, dict):
-        data, where = source, ""
-    else:
-        path = Path(source)
-        with open(path, "rb") as fh:
-            try:
-                data = tomllib.load(fh)
-            except tomllib.TOMLDecodeError as exc:
-                raise MechanismError(f"{path}: not valid TOML ({exc})") from exc
-        where = f"{path}: "
+    from ...fileio import read_toml
+
+    data, path = read_toml(source, "unit file")
+    where = f"{path}: " if path is not None else ""
     unknown = set(data) - UNIT_KEYS
     if unknown:
         raise MechanismError(f"{where}unknown keys {sorted(unknown)}; known: {sorted(UNIT_KEYS)}")
@@ -136,8 +135,10 @@ def load_unit(source) -> tuple[BeamPumpingUnit, dict[str, Any]]:
         units=units,
     )
     spm = num("spm")
-    if not spm > 0:
-        raise MechanismError(f"{where}spm must be positive, got {spm}")
+    if not 0 < spm <= MAX_SPM:
+        raise MechanismError(
+            f"{where}spm must be above 0 and at most {MAX_SPM:g} strokes per minute, got {spm}"
+        )
     force = POUND if units == "in" else 1.0
     torque = POUND * INCH if units == "in" else 1.0
     rating = num("gearbox_rating")
@@ -212,6 +213,14 @@ def analyze(unit_file, card=None, out=None, units="oilfield", n=720) -> StudyRes
         scale = INCH if op["load_units"] == "in" else 1.0
         force = POUND if op["load_units"] == "in" else 1.0
         c = DynamometerCard.from_csv(card, position_scale=scale, load_scale=force)
+        ratio = c.stroke / float(unit.stroke)
+        if not CARD_STROKE_RATIO[0] <= ratio <= CARD_STROKE_RATIO[1]:
+            raise MechanismError(
+                f"card {card}: its stroke is {ratio:.3g} times the unit's "
+                f"({c.stroke:.4g} m against {float(unit.stroke):.4g} m); a card of this unit "
+                f"has {CARD_STROKE_RATIO[0]:g} to {CARD_STROKE_RATIO[1]:g} times its stroke "
+                "(check the card's units and the file's `units`)"
+            )
         dyn = dict(
             speed=omega,
             epsilon=eps,

@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import csv
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -59,6 +58,10 @@ def _angles(theta):
 
 
 # ---------------------------------------------------------------------------------- cards
+#: most (position, load) points of a card
+MAX_CARD_POINTS = 100_000
+#: a card's position may travel this much more than twice its stroke around the loop (noise)
+CARD_TRAVEL_LIMIT = 1.5
 @dataclass(frozen=True)
 class DynamometerCard:
     """A surface dynamometer card: polished-rod load (N) against position (m), one closed loop
@@ -87,8 +90,34 @@ class DynamometerCard:
             bad = ~np.isfinite(v)
             if np.any(bad):
                 raise MechanismError(f"card: {name} {int(np.argmax(bad)) + 1} is not finite")
+        if x.size > MAX_CARD_POINTS:
+            raise MechanismError(
+                f"card: {x.size} points; a card has at most {MAX_CARD_POINTS} (resample it)"
+            )
         if not np.ptp(x) > 0:
             raise MechanismError("card: the positions do not move (zero stroke)")
+        if np.any(w < 0.0):
+            i = int(np.argmax(w < 0.0))
+            raise MechanismError(
+                f"card: load {i + 1} is negative ({w[i]:.6g} N): a polished-rod load is the "
+                "rod string's tension (check the sign and the columns: position, load)"
+            )
+        # one closed loop: the rod goes up once and down once, so the position's total
+        # variation around the loop is twice the stroke (shuffled rows give far more)
+        travel = float(np.sum(np.abs(np.diff(np.append(x, x[0])))))
+        if travel > CARD_TRAVEL_LIMIT * 2.0 * np.ptp(x):
+            raise MechanismError(
+                f"card: the positions go up and down {travel / (2 * np.ptp(x)):.3g} times "
+                "around the loop, not once: the rows are not one loop in recorded order "
+                "(shuffled or sorted?)"
+            )
+        # the pump lifts on the upstroke: the loop encloses positive work, sum W dx > 0
+        work = float(np.sum(np.diff(np.append(x, x[0])) * (w + np.roll(w, -1)) / 2.0))
+        if work < 0.0:
+            raise MechanismError(
+                f"card: the loop runs backwards (net work {work:.6g} J < 0: the downstroke "
+                "carries more load than the upstroke); are the rows in reverse order?"
+            )
         object.__setattr__(self, "position", x)
         object.__setattr__(self, "load", w)
 
@@ -98,26 +127,27 @@ class DynamometerCard:
 
         ``position_scale`` and ``load_scale`` convert the file's units to m and N (e.g.
         ``0.0254`` and ``4.4482216`` for inches and pounds)."""
-        path = Path(path)
+        from ...fileio import read_text
+
+        text, path = read_text(path, "card")
         rows = []
-        with open(path, newline="") as fh:
-            for i, row in enumerate(csv.reader(fh)):
-                cells = [c.strip() for c in row if c.strip()]
-                if not cells or cells[0].startswith("#"):
-                    continue
-                try:
-                    values = [float(c) for c in cells]
-                except ValueError as exc:
-                    if not rows and i == 0:
-                        continue  # header
-                    raise MechanismError(
-                        f"{path}: line {i + 1}: expected two numbers, got {row!r}"
-                    ) from exc
-                if len(values) != 2:
-                    raise MechanismError(
-                        f"{path}: line {i + 1}: expected position, load; got {row!r}"
-                    )
-                rows.append(values)
+        for i, row in enumerate(csv.reader(text.splitlines())):
+            cells = [c.strip() for c in row if c.strip()]
+            if not cells or cells[0].startswith("#"):
+                continue
+            try:
+                values = [float(c) for c in cells]
+            except ValueError as exc:
+                if not rows and i == 0:
+                    continue  # header
+                raise MechanismError(
+                    f"{path}: line {i + 1}: expected two numbers, got {row!r}"
+                ) from exc
+            if len(values) != 2:
+                raise MechanismError(
+                    f"{path}: line {i + 1}: expected position, load; got {row!r}"
+                )
+            rows.append(values)
         if not rows:
             raise MechanismError(f"{path}: no (position, load) rows")
         data = np.asarray(rows)
