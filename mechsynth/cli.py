@@ -17,6 +17,7 @@ import sys
 
 from . import __version__
 from .errors import MechanismError, SolverError
+from .fileio import save_figure, write_text
 from .jsonutil import dumps
 
 __all__ = ["main", "build_parser"]
@@ -281,7 +282,19 @@ class _ClientStack:
         return self.stack.__exit__(*exc)
 
 
+def _manifest(args, files) -> None:
+    """``manifest.json`` in ``--out``: the run's files with their SHA-256, the command's
+    options and the package version (written last, atomically)."""
+    if not getattr(args, "out", None) or not files:
+        return
+    from .fileio import write_manifest
+
+    options = {k: v for k, v in vars(args).items() if k != "func"}
+    write_manifest(args.out, files, options=options, command=" ".join(sys.argv[1:]) or None)
+
+
 def _print_result(result, args) -> int:
+    _manifest(args, result.files)
     if args.json:
         payload = dict(result.data)
         payload.setdefault("errata", list(result.errata))
@@ -341,8 +354,8 @@ def _optimize_run(args) -> int:
     if args.out:
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
-        (out / "result.json").write_text(dumps(res.to_dict()) + "\n")
-        (out / "report.txt").write_text(res.report() + "\n")
+        write_text(out / "result.json", dumps(res.to_dict()) + "\n")
+        write_text(out / "report.txt", res.report() + "\n")
         files += [out / "result.json", out / "report.txt"]
         if res.design is not None:
             import matplotlib
@@ -351,12 +364,13 @@ def _optimize_run(args) -> int:
             import matplotlib.pyplot as plt
 
             fig = res.plot()
-            fig.savefig(out / "optimum.png", dpi=120)
+            save_figure(fig, out / "optimum.png", dpi=120)
             plt.close(fig)
             files.append(out / "optimum.png")
             if args.animate:
                 anim = res.design.animate(speed=res.speed, frames=48)
                 files.append(anim.save(out / "optimum.gif"))
+        _manifest(args, files)
     if args.json:
         print(dumps(res.to_dict()))
     else:
@@ -456,10 +470,11 @@ def _animate_run(args) -> int:
     phi = design.turn_sign * np.deg2rad(args.angle)
     ax = design.draw(phi, trace=trace)
     still = out / f"{stem}.png"
-    ax.figure.savefig(still, dpi=120)
+    save_figure(ax.figure, still, dpi=120)
     plt.close(ax.figure)
     anim = design.animate(speed=speed, frames=args.frames, trace=trace, dpi=args.dpi)
     moving = anim.save(out / f"{stem}.{args.format}")
+    _manifest(args, [still, moving])
     data = {
         "design": design.describe(),
         "values": design.as_dict(),

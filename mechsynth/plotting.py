@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from . import display
+from .fileio import save_figure
 
 __all__ = [
     "PALETTE",
@@ -137,7 +138,7 @@ def save(fig, path, dpi: int = 120) -> Path:
     import matplotlib.pyplot as plt
 
     path = Path(path)
-    fig.savefig(path, dpi=dpi)
+    save_figure(fig, path, dpi=dpi)
     plt.close(fig)
     return path
 

@@ -15,6 +15,7 @@ import numpy as np
 
 from . import display
 from .errors import MechanismError
+from .fileio import write_text
 
 __all__ = ["table", "write_csv", "as_lists", "per_angle"]
 
@@ -87,7 +88,7 @@ def write_csv(columns: dict[str, np.ndarray], path=None):
     if path is None:
         return buf.getvalue()
     path = Path(path)
-    path.write_text(buf.getvalue())
+    write_text(path, buf.getvalue())
     return path
 
 

@@ -50,7 +50,8 @@ VARS = "[variables]\ncrank = [0.01, 0.1]\nrod = [0.2, 0.4]\n"
         (BASE + 'constraints = ["stroke(slider, foo=1) == 0.1"]\n' + VARS, "unexpected keyword"),
         (BASE + "constraints = [3]\n" + VARS, "a constraint is a string"),
         (
-            BASE + '[[constraints]]\nmeasure = "stroke"\nargs = "slider"\nop = "=="\nvalue = 0.1\n'
+            BASE
+            + '[[constraints]]\nmeasure = "stroke"\nargs = "slider"\nop = "=="\nvalue = 0.1\n'
             + VARS,
             "args must be a list",
         ),
@@ -73,8 +74,7 @@ def test_problem_file_schema(tmp_path, text, match):
 def test_quantities_with_the_right_dimension_are_converted(tmp_path):
     p = tmp_path / "p.toml"
     p.write_text(
-        BASE
-        + 'speed = "600 rpm"\nconstraints = ["stroke(slider) >= 100 mm", '
+        BASE + 'speed = "600 rpm"\nconstraints = ["stroke(slider) >= 100 mm", '
         '"max_pressure_angle <= 30 deg"]\n[variables]\ncrank = ["10 mm", "10 cm"]\n'
         "rod = [0.2, 0.4]\n"
     )
@@ -165,10 +165,14 @@ def test_usage_errors_exit_1_not_2(capsys):
         (["optimize", "{tmp}"], "is a directory"),
         (["optimize", os.devnull], "not a regular file"),
         (["optimize", str(EXAMPLES / "optimize_slider_crank.toml"), "--out", ""], "non-empty"),
-        (["optimize", str(EXAMPLES / "optimize_slider_crank.toml"), "--out", "{file}"],
-         "is an existing file"),
-        (["optimize", str(EXAMPLES / "optimize_slider_crank.toml"), "--out", "{file}/sub"],
-         "which is a file"),
+        (
+            ["optimize", str(EXAMPLES / "optimize_slider_crank.toml"), "--out", "{file}"],
+            "is an existing file",
+        ),
+        (
+            ["optimize", str(EXAMPLES / "optimize_slider_crank.toml"), "--out", "{file}/sub"],
+            "which is a file",
+        ),
         (["pump", "analyze", str(UNIT), "--card", "{tmp}"], "is a directory"),
     ],
 )
@@ -219,9 +223,7 @@ def test_subprocess_exit_codes_0_1_2(tmp_path):
     assert r.returncode == 1
     assert r.stderr.count("\n") == 1 and "starts must be a whole number" in r.stderr
     infeasible = tmp_path / "i.toml"
-    infeasible.write_text(
-        BASE + 'constraints = ["stroke(slider) >= 0.5"]\nstarts = 1\n' + VARS
-    )
+    infeasible.write_text(BASE + 'constraints = ["stroke(slider) >= 0.5"]\nstarts = 1\n' + VARS)
     r = _cli("optimize", str(infeasible), "--json")
     assert r.returncode == 2, r.stderr
     # --debug shows the traceback of a bad input
@@ -241,7 +243,12 @@ def test_ctrl_c_exits_130_with_one_line(tmp_path):
         env=env,
         cwd=ROOT,
     )  # fmt: skip
-    time.sleep(3.0)
+    # once the command runs (its output folder exists): an interrupt during Python's own
+    # start-up, before mechsynth's code, is Python's business
+    t0 = time.monotonic()
+    while not (tmp_path / "out").exists() and proc.poll() is None and time.monotonic() - t0 < 300:
+        time.sleep(0.01)
+    time.sleep(0.5)
     proc.send_signal(signal.SIGINT)
     out, err = proc.communicate(timeout=120)
     if proc.returncode == 0:  # finished before the signal: nothing to check

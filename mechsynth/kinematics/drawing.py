@@ -360,12 +360,16 @@ class MechanismAnimation(manim.FuncAnimation):
     def save(self, filename, writer=None, fps=None, dpi=None, **kwargs):
         """Write the animation to ``filename``: the writer follows the extension (.gif:
         pillow, .mp4: ffmpeg, .html: embedded frames) unless given. Returns the path."""
+        from ..fileio import atomic_path
+
         path = Path(filename)
         fps = self.playback_fps if fps is None else fps
         if writer is None:
             ext = path.suffix.lower()
             if ext == ".gif":
-                return self._save_gif(path, fps, dpi)
+                with atomic_path(path) as tmp:  # no half-written file, ever
+                    self._save_gif(tmp, fps, dpi)
+                return path
             if ext in (".mp4", ".m4v", ".mov"):
                 if not manim.writers.is_available("ffmpeg"):
                     raise MechanismError(
@@ -379,7 +383,8 @@ class MechanismAnimation(manim.FuncAnimation):
                 raise MechanismError(
                     f"cannot write {path.name}: give a .gif, .mp4 or .html file name"
                 )
-        super().save(str(path), writer=writer, dpi=dpi, **kwargs)
+        with atomic_path(path) as tmp:
+            super().save(str(tmp), writer=writer, dpi=dpi, **kwargs)
         return path
 
     def frames_rgb(self, dpi=None):
@@ -420,6 +425,7 @@ class MechanismAnimation(manim.FuncAnimation):
         ]
         images[0].save(
             path,
+            format="GIF",
             save_all=True,
             append_images=images[1:],
             duration=int(round(1e3 / fps)),

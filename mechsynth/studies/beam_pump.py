@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..fileio import atomic, write_text
 from ..machines.pumping_unit import (
     BeamPumpingUnit,
     DynamometerCard,
@@ -563,7 +564,7 @@ def _write(out, theta, w, units, card, table, front, data, best_design=None):
     files.append(anim.save(out / "beam_pump.gif"))
 
     keys = list(next(iter(table.values())).keys())
-    with open(out / "beam_pump_extremes.csv", "w", newline="") as fh:
+    with atomic(out / "beam_pump_extremes.csv", "w", newline="") as fh:
         wr = csv.writer(fh)
         wr.writerow(["variant", *keys])
         for name, t in table.items():
@@ -571,6 +572,6 @@ def _write(out, theta, w, units, card, table, front, data, best_design=None):
     files.append(out / "beam_pump_extremes.csv")
     front.to_csv(out / "beam_pump_pareto.csv")
     files.append(out / "beam_pump_pareto.csv")
-    (out / "beam_pump.json").write_text(dumps(data) + "\n")
+    write_text(out / "beam_pump.json", dumps(data) + "\n")
     files.append(out / "beam_pump.json")
     return files

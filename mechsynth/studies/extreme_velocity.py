@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..fileio import atomic
 from ..kinematics.extreme_velocity import (
     ERRATA,
     _real_roots,
@@ -158,7 +159,7 @@ def _fmt(value):
 
 
 def _write_csv(path, rows):
-    with open(path, "w", newline="") as fh:
+    with atomic(path, "w", newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)

@@ -20,6 +20,7 @@ import time
 
 import numpy as np
 
+from ..fileio import atomic
 from ..machines.impact.design import MASSES, SOURCES, representative_machine
 from ..machines.impact.drive import (
     MOTOR_ASSUMPTION,
@@ -559,7 +560,7 @@ def _write(out, o, phi, w, six, motions, six_forces, machines, cyc, ivp, su, syn
     files.append(anim.save(out / "impact_six_link.gif"))
 
     p = out / "impact_six_link.csv"
-    with p.open("w", newline="") as fh:
+    with atomic(p, "w", newline="") as fh:
         wr = csv.writer(fh)
         head = ["crank angle [deg]", "V_K [m/s]", "a_K^t [m/s^2]"]
         for rho in rhos:
@@ -589,7 +590,7 @@ def _write(out, o, phi, w, six, motions, six_forces, machines, cyc, ivp, su, syn
     files.append(p)
 
     p = out / "impact_forces.csv"
-    with p.open("w", newline="") as fh:
+    with atomic(p, "w", newline="") as fh:
         wr = csv.writer(fh)
         joints = list(cyc["six"].result.reactions)
         wr.writerow(
@@ -608,7 +609,7 @@ def _write(out, o, phi, w, six, motions, six_forces, machines, cyc, ivp, su, syn
     files.append(p)
 
     p = out / "impact_steady_state.csv"
-    with p.open("w", newline="") as fh:
+    with atomic(p, "w", newline="") as fh:
         wr = csv.writer(fh)
         wr.writerow(["crank angle [deg]", "crank speed [rpm]", "motor torque at the crank [N m]"])
         for a, ww, tq in zip(np.degrees(ivp.phi), to_rpm(ivp.omega), ivp.motor_torque):

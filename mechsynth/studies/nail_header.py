@@ -17,6 +17,7 @@ import numpy as np
 
 from ..display import fmt
 from ..dynamics.equation_of_motion import energy_method_flywheel, size_flywheel
+from ..fileio import atomic
 from ..machines.nail_header import NailHeader
 from ..machines.nail_header.drive import MOTOR_ASSUMPTION, nail_header_speed_fluctuation
 from ..objectives.forces import reaction_affine_map
@@ -496,7 +497,7 @@ def _write(out, results, table, opt, phi, drive):
     files.append(anim.save(out / "nail_header.gif"))
 
     p = out / "nail_header_table1.csv"
-    with p.open("w", newline="") as fh:
+    with atomic(p, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(
             ["slider mass [kg]"]
@@ -509,7 +510,7 @@ def _write(out, results, table, opt, phi, drive):
     files.append(p)
 
     p = out / "nail_header_reactions.csv"
-    with p.open("w", newline="") as fh:
+    with atomic(p, "w", newline="") as fh:
         w = csv.writer(fh)
         cols = [(m3, j) for m3 in results for j in JOINTS]
         w.writerow(

@@ -45,6 +45,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import MechanismError
+from ..fileio import atomic, save_figure, write_text
 from ..machines.pumping_unit import BeamPumpingUnit, DynamometerCard, optimal_counterbalance
 from ..machines.pumping_unit.paper002 import ERRATA, angle_between_pitmans, paper_bending_moment
 from ..machines.pumping_unit.rod_string import RodString, wave_equation_card
@@ -147,7 +148,7 @@ def make_example_card(path=None):
         unit_7sk12(), WELL, spm_to_rad(CARD_SPM), nodes=CARD_NODES, points=CARD_POINTS
     )
     if path is not None:
-        with open(path, "w", newline="") as fh:
+        with atomic(path, "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(["position_m", "load_N"])
             fh.write(f"# {card.source}; one cycle from the bottom of the stroke\n")
@@ -678,7 +679,7 @@ def _write(out, results):
     dead = np.rad2deg(np.asarray(planar.dead_centres, dtype=float))
 
     def save(fig, name):
-        fig.savefig(out / name, dpi=110)
+        save_figure(fig, out / name, dpi=110)
         plt.close(fig)
         files.append(out / name)
 
@@ -826,7 +827,7 @@ def _write(out, results):
     save(fig, "spatial_pump_design_chart.png")
 
     # tables
-    with open(out / "spatial_pump_cycle.csv", "w", newline="") as fh:
+    with atomic(out / "spatial_pump_cycle.csv", "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(
             [
@@ -884,7 +885,7 @@ def _write(out, results):
                 ]
             )
     files.append(out / "spatial_pump_cycle.csv")
-    with open(out / "spatial_pump_tolerances.csv", "w", newline="") as fh:
+    with atomic(out / "spatial_pump_tolerances.csv", "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["deviation", "unit", "tolerance_revolute", "tolerance_rational", "limit"])
         for n in DEVIATIONS:
@@ -900,7 +901,7 @@ def _write(out, results):
                 ]
             )
     files.append(out / "spatial_pump_tolerances.csv")
-    with open(out / "spatial_pump_sweep.csv", "w", newline="") as fh:
+    with atomic(out / "spatial_pump_sweep.csv", "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["deviation", "unit", "value", "split_revolute", "split_rational"])
         for n, cv in curves.items():
@@ -908,14 +909,14 @@ def _write(out, results):
             for val, a, b in zip(cv["values"], cv["revolute"], cv["spherical"]):
                 w.writerow([n, unit, val * factor, a, b])
     files.append(out / "spatial_pump_sweep.csv")
-    with open(out / "spatial_pump_tolerance_chart.csv", "w", newline="") as fh:
+    with atomic(out / "spatial_pump_tolerance_chart.csv", "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["phase_mismatch_deg", "crank_difference_mm", "peak_split"])
         for j, b in enumerate(v2):
             for i, a in enumerate(v1):
                 w.writerow([np.rad2deg(a), b * 1e3, chart[j, i]])
     files.append(out / "spatial_pump_tolerance_chart.csv")
-    with open(out / "spatial_pump_design_chart.csv", "w", newline="") as fh:
+    with atomic(out / "spatial_pump_design_chart.csv", "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(
             [
@@ -936,6 +937,6 @@ def _write(out, results):
     # the drive seen along the shaft is the planar unit: its animation at the study's speed
     speed = spm_to_rad(float(data["options"]["spm"]))
     files.append(planar.animate(frames=36, speed=speed, dpi=60).save(out / "spatial_pump.gif"))
-    (out / "spatial_pump.json").write_text(dumps(data) + "\n")
+    write_text(out / "spatial_pump.json", dumps(data) + "\n")
     files.append(out / "spatial_pump.json")
     return files

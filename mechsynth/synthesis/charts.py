@@ -41,6 +41,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import MechanismError
+from ..fileio import save_figure, save_npz
 from ..kinematics.compiled import BatchWorkspace, batch_motion
 from ..kinematics.mechanism import input_grid
 from ..objectives.base import Measure
@@ -214,7 +215,7 @@ class Chart:
             values=list(self.values),
         )
         arrays["meta"] = np.array(json.dumps(meta))
-        np.savez_compressed(path, **arrays)
+        save_npz(path, **arrays)
         return path
 
     # -------------------------------------------------------------- figure
@@ -999,7 +1000,7 @@ def chart_slider_crank(out, options):
             title=f"Offset slider-crank, stroke {display.fmt(H, 'm', 4)} at {speed_rpm:g} rpm: "
             f"{n} x {n} designs, {n_angles} crank angles",
         )
-        fig.savefig(out / "slider_crank_chart.png", dpi=130)
+        save_figure(fig, out / "slider_crank_chart.png", dpi=130)
         plt.close(fig)
         files.append(out / "slider_crank_chart.png")
     best = chart.argbest("peak slider acceleration", where=limits)

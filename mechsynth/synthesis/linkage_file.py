@@ -65,6 +65,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..fileio import save_figure
 from ..kinematics.curves import Circle, Involute
 from ..kinematics.linkage import Linkage, Param
 from ..options import Option, chart_options
@@ -570,7 +571,7 @@ def chart_linkage(out, options):
         files.append(result.to_csv(out / f"{stem}_chart.csv"))
         files.append(result.to_npz(out / f"{stem}_chart.npz"))
         fig = result.plot(limits=limits or None, best=best, best_sense=sense)
-        fig.savefig(out / f"{stem}_chart.png", dpi=130)
+        save_figure(fig, out / f"{stem}_chart.png", dpi=130)
         plt.close(fig)
         files.append(out / f"{stem}_chart.png")
     try:

@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import MechanismError
+from ..fileio import save_figure, write_text
 from ..objectives.base import Measure
 from ..options import Option, chart_options
 
@@ -431,13 +432,13 @@ def chart_pareto_slider_crank(out, options):
         out = Path(out)
         out.mkdir(parents=True, exist_ok=True)
         files.append(fr.to_csv(out / "slider_crank_pareto.csv"))
-        (out / "slider_crank_pareto.json").write_text(dumps(fr.to_dict()) + "\n")
+        write_text(out / "slider_crank_pareto.json", dumps(fr.to_dict()) + "\n")
         files.append(out / "slider_crank_pareto.json")
         fig = fr.plot(
             title=f"Slider-crank, stroke {display.fmt(H, 'm', 4)} at {speed_rpm:g} rpm: "
             "Pareto front of peak acceleration and pressure angle"
         )
-        fig.savefig(out / "slider_crank_pareto.png", dpi=120)
+        save_figure(fig, out / "slider_crank_pareto.png", dpi=120)
         plt.close(fig)
         files.append(out / "slider_crank_pareto.png")
     du = display.current()

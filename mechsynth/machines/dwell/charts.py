@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import MechanismError
+from ...fileio import save_figure
 from ...options import Option, chart_options
 from .linkage import DwellSliderCrank
 from .metrics import best_window_width, dwell_metrics
@@ -325,7 +326,7 @@ def plot_dwell_chart(chart: DwellChart, path=None):
         )
         prune_labels(fig)
         if path is not None:
-            fig.savefig(path, dpi=110)
+            save_figure(fig, path, dpi=110)
     return fig
 
 
@@ -406,7 +407,7 @@ def chart_dwell(out, options):
         out.mkdir(parents=True, exist_ok=True)
         files.append(chart.to_csv(out / "dwell_chart.csv"))
         fig = chart.plot(out / "dwell_chart.png")
-        fig.savefig(out / "dwell_chart.svg")
+        save_figure(fig, out / "dwell_chart.svg")
         plt.close(fig)
         files.append(out / "dwell_chart.png")
         files.append(out / "dwell_chart.svg")

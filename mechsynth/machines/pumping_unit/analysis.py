@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 
 from ...errors import MechanismError
+from ...fileio import atomic, write_text
 from ...report import StudyResult
 from ...units import spm as spm_to_rad_s
 from .beam_unit import BeamPumpingUnit, crank_speed
@@ -365,7 +366,7 @@ def _write(out, unit, theta, m, tc, pl, U, cv, data):
         files.append(save_figure(fig, out / "polished_rod.png", dpi=110))
 
     rows = torque_factor_table(unit, 15.0)
-    with open(out / "torque_factor_table.csv", "w", newline="") as fh:
+    with atomic(out / "torque_factor_table.csv", "w", newline="") as fh:
         w = csv.writer(fh)
         header = ["crank_angle_deg", f"torque_factor_{U['tf'][0]}", f"position_{U['length'][0]}"]
         w.writerow([*header, "position_fraction", "beam_angle_deg"])
@@ -379,7 +380,7 @@ def _write(out, unit, theta, m, tc, pl, U, cv, data):
         fig = tc.plot(scale=U["torque"][1], unit=U["torque"][0])
         fig.axes[0].set_title(f"{_name(data)}: gearbox torque", fontsize=10)
         files.append(save_figure(fig, out / "torque.png", dpi=110))
-        with open(out / "torque_curve.csv", "w", newline="") as fh:
+        with atomic(out / "torque_curve.csv", "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(["crank_angle_deg", f"position_{U['length'][0]}",
                         f"torque_factor_{U['tf'][0]}", f"load_{U['force'][0]}",
@@ -426,6 +427,6 @@ def _write(out, unit, theta, m, tc, pl, U, cv, data):
             )
             ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=3, markerscale=4)
             files.append(save_figure(fig, out / "permissible_load.png", dpi=110))
-    (out / "pump_analysis.json").write_text(dumps(data) + "\n")
+    write_text(out / "pump_analysis.json", dumps(data) + "\n")
     files.append(out / "pump_analysis.json")
     return files

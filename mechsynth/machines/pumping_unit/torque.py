@@ -62,6 +62,8 @@ def _angles(theta):
 MAX_CARD_POINTS = 100_000
 #: a card's position may travel this much more than twice its stroke around the loop (noise)
 CARD_TRAVEL_LIMIT = 1.5
+
+
 @dataclass(frozen=True)
 class DynamometerCard:
     """A surface dynamometer card: polished-rod load (N) against position (m), one closed loop
@@ -144,9 +146,7 @@ class DynamometerCard:
                     f"{path}: line {i + 1}: expected two numbers, got {row!r}"
                 ) from exc
             if len(values) != 2:
-                raise MechanismError(
-                    f"{path}: line {i + 1}: expected position, load; got {row!r}"
-                )
+                raise MechanismError(f"{path}: line {i + 1}: expected position, load; got {row!r}")
             rows.append(values)
         if not rows:
             raise MechanismError(f"{path}: no (position, load) rows")

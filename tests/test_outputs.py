@@ -1,0 +1,139 @@
+"""Outputs that survive: every file is written to a temporary file beside it and renamed when
+complete, so an interrupted or failed write never leaves a truncated file nor destroys the
+previous one; each run lists its files with SHA-256 in manifest.json."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import mechsynth as ms
+from mechsynth import fileio
+
+ROOT = Path(__file__).resolve().parents[1]
+DESIGN = ROOT / "examples" / "design_slider_crank.toml"
+
+
+def _leftovers(folder):
+    return [p.name for p in Path(folder).iterdir() if ".part" in p.name]
+
+
+@pytest.mark.parametrize("exc", [KeyboardInterrupt, RuntimeError])
+def test_an_interrupted_write_keeps_the_previous_file(tmp_path, exc):
+    target = tmp_path / "table.csv"
+    fileio.write_text(target, "a,b\n1,2\n")
+    with pytest.raises(exc):
+        with fileio.atomic(target) as fh:
+            fh.write("a,b\n3,")
+            raise exc()
+    assert target.read_text() == "a,b\n1,2\n"
+    assert _leftovers(tmp_path) == []
+
+
+def test_every_writer_goes_through_the_atomic_helper(tmp_path, monkeypatch):
+    """A figure, an NPZ, a CSV of a motion and a GIF: each failing half-way leaves nothing."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots()
+    ax.plot([0, 1], [0, 1])
+    png = fileio.save_figure(fig, tmp_path / "f.png", dpi=50)
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    npz = fileio.save_npz(tmp_path / "a.npz", x=np.arange(5.0))
+    assert np.load(npz)["x"].tolist() == [0, 1, 2, 3, 4]
+    before = png.read_bytes()
+
+    def broken(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(fig, "savefig", broken)
+    with pytest.raises(KeyboardInterrupt):
+        fileio.save_figure(fig, png)
+    assert png.read_bytes() == before and _leftovers(tmp_path) == []
+    plt.close(fig)
+
+    sc = ms.SliderCrank(crank=0.07, rod=0.24)
+    csv = sc.motion(ms.cycle(8)).to_csv(tmp_path / "m.csv")
+    assert len(Path(csv).read_text().splitlines()) == 9
+    anim = sc.animate(frames=4, dpi=30)
+    gif = anim.save(tmp_path / "m.gif")
+    assert gif.read_bytes()[:6] == b"GIF89a" and _leftovers(tmp_path) == []
+
+
+def test_output_folder_checks(tmp_path):
+    f = tmp_path / "file"
+    f.write_text("x")
+    for bad, match in (("", "non-empty"), (f, "existing file"), (f / "sub", "which is a file")):
+        with pytest.raises(ms.MechanismError, match=match):
+            fileio.output_dir(bad)
+    assert fileio.output_dir(tmp_path / "new" / "deep").is_dir()
+
+
+def _env():
+    return dict(os.environ, PYTHONPATH=str(ROOT))
+
+
+def _animate(out, frames=60):
+    return [sys.executable, "-m", "mechsynth", "animate", str(DESIGN), "--out", str(out),
+            "--frames", str(frames), "--quiet"]  # fmt: skip
+
+
+def test_manifest_lists_the_files_with_their_checksums(tmp_path):
+    out = tmp_path / "run"
+    r = subprocess.run(_animate(out, 8), capture_output=True, text=True, env=_env(), cwd=ROOT)
+    assert r.returncode == 0, r.stderr
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["version"] == ms.__version__
+    assert manifest["options"]["frames"] == 8
+    names = {e["file"] for e in manifest["files"]}
+    assert names == {"design_slider_crank.png", "design_slider_crank.gif"}
+    for e in manifest["files"]:
+        assert fileio.sha256(out / e["file"]) == e["sha256"]
+        assert (out / e["file"]).stat().st_size == e["bytes"]
+
+
+def _interrupt_run(tmp_path, delays):
+    out = tmp_path / "run"
+    r = subprocess.run(_animate(out), capture_output=True, text=True, env=_env(), cwd=ROOT)
+    assert r.returncode == 0, r.stderr
+    complete = {p.name: p.read_bytes() for p in out.iterdir()}
+    for delay in delays:
+        proc = subprocess.Popen(
+            _animate(out), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+            env=_env(), cwd=ROOT,
+        )  # fmt: skip
+        # interrupt while a file is being written (a temporary file exists), ``delay`` s
+        # after the first one appears
+        t0 = time.monotonic()
+        while not _leftovers(out) and proc.poll() is None and time.monotonic() - t0 < 300:
+            time.sleep(0.005)
+        time.sleep(delay)
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=300)
+        assert proc.returncode in (0, 130), err
+        if proc.returncode == 130:
+            assert "Traceback" not in err and "interrupted" in err
+        # every file is the previous complete one or a complete new one (the output is
+        # deterministic: the same bytes); nothing half-written is left
+        assert _leftovers(out) == []
+        for p in out.iterdir():
+            assert p.read_bytes() == complete[p.name] or p.name == "manifest.json", p.name
+
+
+@pytest.mark.skipif(os.name != "posix", reason="SIGINT to a child process")
+def test_ctrl_c_never_leaves_a_truncated_or_destroyed_file(tmp_path):
+    _interrupt_run(tmp_path, [0.0])
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(os.name != "posix", reason="SIGINT to a child process")
+def test_ctrl_c_at_many_moments(tmp_path):
+    _interrupt_run(tmp_path, [0.0, 0.01, 0.05, 0.1, 0.2, 0.5, 1.0])
