@@ -32,6 +32,7 @@ __all__ = [
     "MAX_ANGLES",
     "MAX_LENGTH",
     "real",
+    "number",
     "length",
     "positive",
     "nonnegative",
@@ -150,6 +151,18 @@ def _sign_check(name, value, unit, bad, rule):
     return value
 
 
+def number(name: str, value, unit: str = "") -> float:
+    """One finite real number (not an array) as a float."""
+    v = real(name, value, unit)
+    if type(v) is not float:
+        if _symbolic(v):
+            return v
+        raise MechanismError(
+            f"{name} must be one number{_unit(unit)}, got an array of shape {np.shape(v)}"
+        )
+    return v
+
+
 def positive(name: str, value, unit: str = ""):
     """A finite real number (or array) > 0."""
     return _sign_check(name, real(name, value, unit), unit, lambda v: v <= 0.0, "positive")
@@ -236,10 +249,9 @@ def broadcast(**arrays):
 
 def option(name: str, value, choices):
     """``value`` if it is one of ``choices``, else an error listing them."""
-    try:
-        ok = value in choices
-    except TypeError:
-        ok = False
+    ok = isinstance(value, (str, int, float, type(None))) and any(
+        type(value) is type(c) and value == c for c in choices
+    )
     if not ok:
         listed = ", ".join(repr(c) for c in choices)
         raise MechanismError(f"{name} must be one of {listed}, got {_describe(value)}")

@@ -134,6 +134,8 @@ class FourBar(Mechanism):
     def __post_init__(self):
         for name in self.parameters:
             object.__setattr__(self, name, check_length(name, getattr(self, name)))
+        if not isinstance(self.full_turn, (bool, np.bool_)):
+            raise MechanismError(f"full_turn must be True or False, got {self.full_turn!r}")
         if type(self.branch) is not str or self.branch not in _BRANCHES:
             validate.option("branch", self.branch, tuple(_BRANCHES))
         a, b, c, d = self.crank, self.coupler, self.rocker, self.ground
@@ -242,7 +244,17 @@ class FourBar(Mechanism):
         """
         omega, eps = speed_pair(speed, epsilon)
         phi = as_angles(phi)
-        guard_motion((self.crank, self.coupler, self.rocker, self.ground), phi)
+        guard_motion(
+            {
+                "crank": self.crank,
+                "coupler": self.coupler,
+                "rocker": self.rocker,
+                "ground": self.ground,
+            },
+            phi,
+            omega,
+            eps,
+        )
         a, b, coupler, rocker = self.jets(phi)
         crank_jet = Jet(phi + 0.0 * a.x, 1.0 + 0.0 * a.x, 0.0 * a.x)
         o1 = PointJet.fixed(0.0 * a.x, 0.0 * a.x)

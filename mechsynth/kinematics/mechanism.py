@@ -80,20 +80,30 @@ def as_angles(phi):
     return validate.angles(phi)
 
 
+#: largest crank speed (rad/s) a motion accepts: accelerations grow with its square
+MAX_SPEED = 1e100
+
 #: how many (designs x angles) arrays a named mechanism's motion holds at its peak
 MOTION_ARRAYS = 64
 
 
-def guard_motion(params, phi, arrays: int = MOTION_ARRAYS):
-    """Refuse, before computing, a motion of so many designs x angles that its working arrays
-    (about ``arrays`` of them) would exceed :data:`mechsynth.validate.MAX_BYTES`. O(parameters)
-    work: the product of the sizes bounds the broadcast size."""
+def guard_motion(params: dict, phi, *rates, arrays: int = MOTION_ARRAYS):
+    """Check, before computing, that the parameters, the crank angles and the crank speed and
+    acceleration (``rates``) broadcast together, and refuse a motion of so many designs x
+    angles that its working arrays (about ``arrays`` of them) would exceed
+    :data:`mechsynth.validate.MAX_BYTES`. O(parameters) work, none for scalar parameters."""
     n = phi.size if isinstance(phi, np.ndarray) else 1
-    for v in params:
-        if isinstance(v, np.ndarray):
+    batch = False
+    for v in (*params.values(), *rates):
+        if isinstance(v, np.ndarray) and v.ndim:
             n *= v.size
+            batch = True
+    if not batch:
+        return
+    named = {**params, "crank angles": phi}
+    named.update({k: v for k, v in zip(("speed", "epsilon"), rates)})
+    shape = validate.broadcast(**named)
     if n * arrays * 8 > validate.MAX_BYTES:
-        shape = validate.broadcast(phi=phi, **{f"p{i}": v for i, v in enumerate(params)})
         validate.check_size(
             f"a motion over {int(np.prod(shape))} designs x angles",
             arrays * float(np.prod(shape)),
@@ -108,6 +118,11 @@ def speed_pair(speed, epsilon):
         return 1.0, 0.0
     if not ops.is_symbolic(speed):
         speed = check_finite("speed", speed)
+        if (abs(speed) > MAX_SPEED) if type(speed) is float else np.any(np.abs(speed) > MAX_SPEED):
+            raise MechanismError(
+                f"speed must be at most {MAX_SPEED:g} rad/s in magnitude (its squares overflow), "
+                f"got {np.max(np.abs(speed)):g}"
+            )
     if not ops.is_symbolic(epsilon):
         epsilon = check_finite("epsilon", epsilon)
     return speed, epsilon

@@ -129,7 +129,7 @@ class SliderCrank(Mechanism):
         """
         omega, eps = speed_pair(speed, epsilon)
         phi = as_angles(phi)
-        guard_motion((self.crank, self.rod, self.offset), phi)
+        guard_motion({"crank": self.crank, "rod": self.rod, "offset": self.offset}, phi, omega, eps)
         a, b, s, rod = self.jets(phi)
         crank_jet = Jet(phi + 0.0 * self.crank, 1.0 + 0.0 * a.x, 0.0 * a.x)
         points = {"O": PointJet.fixed(0.0 * a.x, 0.0 * a.x), "A": a, "B": b}

@@ -40,7 +40,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import MechanismError
+from ..errors import MechanismError, UsageError
 from ..fileio import save_figure, save_npz
 from ..kinematics.compiled import BatchWorkspace, batch_motion
 from ..kinematics.mechanism import input_grid
@@ -112,13 +112,15 @@ class Chart:
             return ok
         if isinstance(where, np.ndarray):
             if where.shape != self.shape:
-                raise ValueError(f"where has shape {where.shape}, the chart {self.shape}")
+                raise MechanismError(f"where has shape {where.shape}, the chart {self.shape}")
             return ok & where.astype(bool)
         for label, (op, bound) in where.items():
             if label not in self.values:
-                raise ValueError(f"unknown measure {label!r}; chart has {', '.join(self.values)}")
+                raise MechanismError(
+                    f"unknown measure {label!r}; chart has {', '.join(self.values)}"
+                )
             if op not in _OPS:
-                raise ValueError(f"op must be one of {', '.join(_OPS)}, got {op!r}")
+                raise MechanismError(f"op must be one of {', '.join(_OPS)}, got {op!r}")
             data = self.values[label].filled(np.nan)
             with np.errstate(invalid="ignore"):
                 ok &= _OPS[op](data, float(bound))
@@ -133,12 +135,12 @@ class Chart:
         raises ValueError when no grid design qualifies.
         """
         if measure not in self.values:
-            raise ValueError(f"unknown measure {measure!r}; chart has {', '.join(self.values)}")
+            raise MechanismError(f"unknown measure {measure!r}; chart has {', '.join(self.values)}")
         if sense not in ("min", "max"):
-            raise ValueError(f"sense must be 'min' or 'max', got {sense!r}")
+            raise MechanismError(f"sense must be 'min' or 'max', got {sense!r}")
         ok = self.satisfied(where)
         if not ok.any():
-            raise ValueError(f"no feasible grid design satisfies {where!r}")
+            raise MechanismError(f"no feasible grid design satisfies {where!r}")
         data = self.values[measure].filled(0.0)
         score = np.where(ok, data if sense == "min" else -data, np.inf)
         idx = np.unravel_index(int(np.argmin(score)), self.shape)
@@ -264,11 +266,11 @@ class Chart:
         from ..plotting import PALETTE, label_contours, prune_labels, style
 
         if len(self.grid) != 2:
-            raise ValueError(f"plot needs a 2-D grid; this chart has axes {list(self.grid)}")
+            raise MechanismError(f"plot needs a 2-D grid; this chart has axes {list(self.grid)}")
         labels = list(self.values) if measures is None else list(measures)
         for lab in labels:
             if lab not in self.values:
-                raise ValueError(f"unknown measure {lab!r}; chart has {', '.join(self.values)}")
+                raise MechanismError(f"unknown measure {lab!r}; chart has {', '.join(self.values)}")
         colours = [PALETTE[0], PALETTE[5], PALETTE[4], PALETTE[3], PALETTE[1], PALETTE[6]]
         styles = ["-", "--", "-.", ":", "-", "--"]
         limit_colours = [PALETTE[6], PALETTE[1], PALETTE[2], PALETTE[7]]
@@ -526,7 +528,7 @@ def _sweep_block(spec: _SweepSpec, c: int) -> _BlockResult | None:
     mapped = spec.design(dict(vals)) if spec.design is not None else vals
     clash = set(mapped) & set(spec.fixed)
     if clash:
-        raise ValueError(f"parameters {sorted(clash)} are both on the grid and fixed")
+        raise MechanismError(f"parameters {sorted(clash)} are both on the grid and fixed")
     params = {**spec.fixed}
     for name, v in mapped.items():
         params[name] = (
@@ -614,7 +616,7 @@ def _dumps(spec) -> bytes:
         try:
             import cloudpickle
         except ImportError:
-            raise ValueError(
+            raise MechanismError(
                 f"the sweep's functions cannot be sent to other processes ({exc}); define "
                 "them at module level, or install cloudpickle"
             ) from exc
@@ -740,21 +742,24 @@ def sweep(
 
     t0 = time.perf_counter()
     _keep_freed_memory()
-    if not grid:
-        raise ValueError("grid must name at least one axis")
-    if not measures:
-        raise ValueError("measures must hold at least one {label: measure}")
+    from .. import validate
+
+    if not isinstance(grid, Mapping) or not grid:
+        raise MechanismError("grid must name at least one axis: {name: values}")
+    if not isinstance(measures, Mapping) or not measures:
+        raise MechanismError("measures must hold at least one {label: measure}")
     axes = {}
     for name, values in grid.items():
-        a = np.asarray(values, dtype=float).ravel()
-        if a.size == 0 or not np.all(np.isfinite(a)):
-            raise ValueError(f"grid axis {name!r} must hold finite values")
+        a = np.ravel(validate.real(f"grid axis {name!r}", values))
         axes[str(name)] = a
     fixed = dict(fixed or {})
-    phi = (
-        input_grid(mechanism, int(angles))
-        if np.ndim(angles) == 0
-        else np.asarray(angles, dtype=float).ravel()
+    if np.ndim(angles) == 0 and not isinstance(angles, (str, bytes)):
+        phi = input_grid(mechanism, validate.integer("angles", angles, 2, validate.MAX_ANGLES))
+    else:
+        phi = np.ravel(validate.real("angles", angles, "rad"))
+    validate.check_size(
+        f"a sweep of {int(np.prod([a.size for a in axes.values()], dtype=float))} designs",
+        float(np.prod([a.size for a in axes.values()], dtype=float)) * (2 + len(measures)),
     )
     bound = {}
     for label, m in measures.items():
@@ -763,14 +768,12 @@ def sweep(
         elif callable(m):
             bound[label] = m
         else:
-            raise TypeError(f"measure {label!r} must be a Measure or a function, got {m!r}")
+            raise UsageError(f"measure {label!r} must be a Measure or a function, got {m!r}")
     shape = tuple(a.size for a in axes.values())
     total = int(np.prod(shape))
     if chunk is None:
         chunk = max(1, 2**16 // max(phi.size, 1))
-    chunk = int(chunk)
-    if chunk < 1:
-        raise ValueError(f"chunk must be >= 1, got {chunk}")
+    chunk = validate.integer("chunk", chunk, 1)
     spec = _SweepSpec(
         mechanism=mechanism,
         axes=axes,
@@ -795,7 +798,7 @@ def sweep(
     )
     workers = int(workers)
     if workers < 1:
-        raise ValueError(f"workers must be >= 1, got {workers}")
+        raise MechanismError(f"workers must be >= 1, got {workers}")
     if executor is None:
         executor = _EXECUTOR.get()
     if executor is not None:
@@ -828,7 +831,7 @@ def sweep(
             pool.shutdown()
     bar.close()
     if not ok_all.any():
-        raise ValueError(f"no feasible design on the grid ({total} designs): {reason}")
+        raise MechanismError(f"no feasible design on the grid ({total} designs): {reason}")
     mask = ~ok_all.reshape(shape)
     units = {}
     for label, m in bound.items():
@@ -895,7 +898,7 @@ def slider_crank_chart(
 
     H = float(stroke)
     if not np.isfinite(H) or H <= 0:
-        raise ValueError(f"stroke must be a positive length in m, got {stroke}")
+        raise MechanismError(f"stroke must be a positive length in m, got {stroke}")
     lam = np.linspace(1.5, 8.0, 200) if rod_crank is None else np.asarray(rod_crank, float)
     eps = np.linspace(0.0, 2.0, 200) if offset_crank is None else np.asarray(offset_crank, float)
     speed = rpm(600) if speed is None else float(speed)

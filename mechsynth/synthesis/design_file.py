@@ -84,7 +84,7 @@ def load_design(source) -> DesignSpec:
             f"{where}unknown keys {sorted(unknown)}; a design file has {sorted(_TOP_KEYS)} "
             "(top-level keys before the [design] table)"
         )
-    if name not in known:
+    if not isinstance(name, str) or name not in known:
         raise MechanismError(
             f"{where}mechanism must be one of {', '.join(sorted(known))}, got {name!r}"
         )

@@ -94,23 +94,26 @@ class Problem:
         kinds = {} if isinstance(mechanism, type) else getattr(mechanism, "parameter_kinds", {})
         self.mechanism = mechanism
         self.variables: dict[str, tuple[float, float]] = {}
-        if not variables:
+        if not isinstance(variables, Mapping) or len(variables) == 0:
             raise MechanismError(
-                "variables must name at least one parameter with its (lower, upper)"
+                "variables must name at least one parameter with its (lower, upper), got "
+                f"{variables!r}"
             )
+        if fixed is not None and not isinstance(fixed, Mapping):
+            raise MechanismError(f"fixed must be a dict {{name: value}}, got {fixed!r}")
         for name, bounds in variables.items():
             if name not in fields:
                 raise MechanismError(
                     f"{mechanism.__name__} has no parameter {name!r}; "
                     f"its parameters: {', '.join(fields)}"
                 )
-            if isinstance(bounds, (str, bytes, Mapping)) or np.shape(bounds) != (2,):
+            if not isinstance(bounds, (list, tuple, np.ndarray)) or len(bounds) != 2:
                 raise MechanismError(
                     f"variable {name!r}: bounds must be (lower, upper), got {bounds!r}"
                 )
-            lo = validate.real(f"variable {name!r}: lower bound", bounds[0])
-            hi = validate.real(f"variable {name!r}: upper bound", bounds[1])
-            if not (np.isfinite(lo) and np.isfinite(hi)) or not lo < hi:
+            lo = validate.number(f"variable {name!r}: lower bound", bounds[0])
+            hi = validate.number(f"variable {name!r}: upper bound", bounds[1])
+            if not lo < hi:
                 raise MechanismError(
                     f"variable {name!r}: need finite lower < upper, got ({lo}, {hi})"
                 )
@@ -138,7 +141,7 @@ class Problem:
                 f"{mechanism.__name__}: give {', '.join(missing)} as variables or fixed"
             )
         if speed is not None:
-            speed = validate.real("speed", speed, "rad/s")
+            speed = validate.number("speed", speed, "rad/s")
             if speed == 0.0:
                 raise MechanismError(
                     "speed must be a finite non-zero crank speed in rad/s, got 0 (None measures "
@@ -155,12 +158,14 @@ class Problem:
                     f"angles: need 8 to {validate.MAX_ANGLES} grid angles (rad), got {a.size}"
                 )
             self.base_angles = a
-        self.feasibility_margin = validate.nonnegative("feasibility_margin", feasibility_margin)
+        self.feasibility_margin = validate.nonnegative(
+            "feasibility_margin", validate.number("feasibility_margin", feasibility_margin)
+        )
         if self.feasibility_margin >= 1.0:
             raise MechanismError(
                 f"feasibility_margin is relative: it must be below 1, got {feasibility_margin}"
             )
-        self.tol = validate.positive("tol", tol)
+        self.tol = validate.positive("tol", validate.number("tol", tol))
         self.objective: Measure | None = None
         self.sense = "min"
         self.constraints: list[Constraint] = []

@@ -568,7 +568,7 @@ def _check_options(problem, method, starts, seed, rtol, max_rounds, n_dense, opt
     starts = validate.integer("starts", starts, 1, validate.MAX_STARTS)
     if seed is not None:
         validate.integer("seed", seed, 0)
-    validate.positive("rtol", rtol)
+    validate.positive("rtol", validate.number("rtol", rtol))
     validate.integer("max_rounds", max_rounds, 0, 1000)
     validate.integer("n_dense", n_dense, 16, validate.MAX_ANGLES)
     for name, value in (("options", options), ("de_options", de)):
@@ -605,14 +605,14 @@ def _check_options(problem, method, starts, seed, rtol, max_rounds, n_dense, opt
                 )
             values = [x0[k] for k in names]
         else:
-            if isinstance(x0, (str, bytes)) or np.ndim(x0) != 1 or len(x0) != len(names):
+            if not isinstance(x0, (list, tuple, np.ndarray)) or len(x0) != len(names):
                 raise MechanismError(
                     f"x0 must be a dict {{name: value}} or {len(names)} values in the order "
                     f"{', '.join(names)}, got {x0!r}"
                 )
             values = list(x0)
         for k, v in zip(names, values):
-            v = validate.real(f"x0[{k!r}]", v)
+            v = validate.number(f"x0[{k!r}]", v)
             lo, hi = problem.variables[k]
             if not lo <= v <= hi:
                 raise MechanismError(f"x0[{k!r}] = {v} is outside its bounds ({lo}, {hi})")
