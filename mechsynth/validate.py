@@ -172,7 +172,7 @@ def length(name: str, value):
     """A finite length > 0 in m (number or array of designs), at most :data:`MAX_LENGTH`."""
     value = real(name, value, "m")
     if type(value) is float:
-        if 0.0 < value <= MAX_LENGTH:
+        if value > 0.0 and value <= MAX_LENGTH:
             return value
     elif _symbolic(value) or bool(((value > 0.0) & (value <= MAX_LENGTH)).all()):
         return value
