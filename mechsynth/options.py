@@ -13,7 +13,7 @@ lists the valid ones.
 >>> opts.resolve({"stroke": "0"}, owner="chart demo")
 Traceback (most recent call last):
 ...
-ValueError: chart demo: option stroke (m) must be > 0, got 0.0
+mechsynth.errors.MechanismError: chart demo: option stroke (m) must be > 0, got 0.0
 """
 
 from __future__ import annotations

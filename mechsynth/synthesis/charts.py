@@ -753,7 +753,7 @@ def sweep(
         a = np.ravel(validate.real(f"grid axis {name!r}", values))
         axes[str(name)] = a
     fixed = dict(fixed or {})
-    if np.ndim(angles) == 0 and not isinstance(angles, (str, bytes)):
+    if isinstance(angles, (int, float, np.integer, np.floating)):
         phi = input_grid(mechanism, validate.integer("angles", angles, 2, validate.MAX_ANGLES))
     else:
         phi = np.ravel(validate.real("angles", angles, "rad"))

@@ -148,7 +148,7 @@ class Problem:
                     "crank-angle analogs)"
                 )
         self.speed = speed
-        if np.ndim(angles) == 0 and not isinstance(angles, (str, bytes)):
+        if isinstance(angles, (int, float, np.integer, np.floating)):
             n = validate.integer("angles", angles, 8, validate.MAX_ANGLES)
             self.base_angles = input_grid(mechanism, n)
         else:
