@@ -389,7 +389,11 @@ def _build(data, name, where, path) -> ProblemSpec:
         text = isinstance(v, bool) or k in _TEXT_FIXED
         fixed[k] = v if text else parse_quantity(v, f"fixed {k!r}", _unit_of(mechanism, k))
     speed = data.get("speed")
-    speed = None if speed is None else parse_quantity(speed, "speed", "rad/s")
+    try:  # a linkage driven by a slider moves at a linear speed
+        linear = getattr(mechanism, "input_unit", "rad") == "m"
+    except (MechanismError, AttributeError):
+        linear = False
+    speed = None if speed is None else parse_quantity(speed, "speed", "m/s" if linear else "rad/s")
     angles = data.get("angles", 64)
     angles = validate.integer("angles", angles, 8, validate.MAX_ANGLES)
     prob = Problem(mechanism, variables, fixed, speed=speed, angles=angles)
