@@ -424,3 +424,12 @@ def test_page_loads_a_file_by_its_path_and_names_a_bad_one(page):
     assert set(page.state.vary) == {"OA", "DB", "K_along", "KN"}
     assert page.dim_widgets["KN"][1].value  # its vary box is ticked
     assert "of N" in page.stats.object
+
+
+def test_solve_worker_reports_failures_as_text():
+    import queue
+
+    q = queue.Queue()
+    model.solve_worker({"mechanism": "nope"}, q)
+    kind, text = q.get_nowait()
+    assert kind == "error" and text.startswith("ValueError: mechanism must be one of")

@@ -32,7 +32,7 @@ from .model import (
     curves,
     kind_names,
     load_file,
-    solve_data,
+    solve_worker,
     sweep_chart,
 )
 
@@ -43,14 +43,6 @@ FIGURE = (560, 460)  # drawing size, px
 FRAME = (FIGURE[0] - 75, FIGURE[1] - 85)  # about its inner frame (axes and title taken off)
 COLORS = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#F0E442"]
 _POOL = ThreadPoolExecutor(max_workers=2, thread_name_prefix="mechsynth-explore")
-
-
-def _solve_worker(data, messages):
-    """Worker process: solve and post the result (or the error) on ``messages``."""
-    try:
-        messages.put(("done", solve_data(data, messages)))
-    except Exception as exc:  # noqa: BLE001 - every failure goes back to the page as text
-        messages.put(("error", f"{type(exc).__name__}: {exc}"))
 
 
 class Explorer:
@@ -836,7 +828,7 @@ class Explorer:
             return
         ctx = multiprocessing.get_context("spawn")
         self._queue = ctx.Queue()
-        self._proc = ctx.Process(target=_solve_worker, args=(data, self._queue), daemon=True)
+        self._proc = ctx.Process(target=solve_worker, args=(data, self._queue), daemon=True)
         self._proc.start()
         self._t0 = time.perf_counter()
         self._stage = "starting the solver"

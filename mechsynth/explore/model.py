@@ -43,6 +43,7 @@ __all__ = [
     "checks",
     "sweep_chart",
     "solve_data",
+    "solve_worker",
 ]
 
 
@@ -1013,3 +1014,12 @@ def solve_data(data: dict, messages=None) -> dict:
     out["variables"] = dict(res.variables or {})
     out["report"] = res.report()
     return out
+
+
+def solve_worker(data: dict, messages) -> None:
+    """A worker process's work: solve and post ``("done", result)`` or ``("error", text)`` on
+    ``messages`` (this module imports no web framework, so the worker starts light)."""
+    try:
+        messages.put(("done", solve_data(data, messages)))
+    except Exception as exc:  # noqa: BLE001 - every failure goes back to the page as text
+        messages.put(("error", f"{type(exc).__name__}: {exc}"))
