@@ -141,3 +141,14 @@ def test_integer_rules(value, lo, hi, match):
         validate.integer("n", value, lo, hi)
     assert validate.integer("n", 4.0, 1, 10) == 4
     assert validate.integer("n", np.int32(4), 1, 10) == 4
+
+
+def test_extreme_velocity_up_to_its_stated_ratio_and_a_clear_error_beyond():
+    for ratio in (1e3, 1e6):
+        sc = ms.SliderCrank(crank=1.0, rod=ratio, offset=0.3)
+        ev = sc.extreme_velocity()
+        v = sc.motion(ms.cycle(200_000)).slider.velocity
+        assert ev.maximum.value == pytest.approx(v.max(), rel=1e-9)
+        assert ev.minimum.value == pytest.approx(v.min(), rel=1e-9)
+    with pytest.raises(ms.MechanismError, match="rod/crank 1e\\+07 is above 1e\\+06"):
+        ms.SliderCrank(crank=1.0, rod=1e7).extreme_velocity()

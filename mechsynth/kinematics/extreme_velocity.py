@@ -32,6 +32,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import MechanismError
+
 __all__ = [
     "ERRATA",
     "Extremum",
@@ -147,6 +149,10 @@ def stroke_crank_angle(crank, rod, offset):
     return np.pi + np.arccos(np.minimum(cos_t, 1.0))
 
 
+#: largest rod/crank ratio for which the polynomial's roots are resolved (tested to 1e6)
+MAX_RATIO = 1e6
+
+
 def extreme_velocity(crank, rod, offset=0.0, residual_tol=1e-7, check_points=720):
     """Maximum and minimum of the slider velocity analog of ``SliderCrank(crank, rod, offset)``.
 
@@ -158,6 +164,12 @@ def extreme_velocity(crank, rod, offset=0.0, residual_tol=1e-7, check_points=720
     """
     a, b, off = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (crank, rod, offset)))
     i, e0 = b / a, -off / a
+    if np.any(i > MAX_RATIO):
+        raise MechanismError(
+            f"extreme_velocity: rod/crank {float(np.max(i)):.3g} is above {MAX_RATIO:g}: the "
+            "degree-6 polynomial's roots drown in round-off there (the velocity analog is then "
+            "within (crank/rod)^2 of a pure sine's, whose extremes are +-crank at 90 and 270 deg)"
+        )
     roots = _real_roots(polynomial_coefficients(i, e0))  # (*batch, 6)
     real = np.abs(roots.imag) <= 1e-9 * (1.0 + np.abs(roots.real))
     u = roots.real
