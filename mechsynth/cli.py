@@ -132,7 +132,7 @@ def _set_options(items) -> dict[str, str]:
     for item in items:
         key, sep, value = item.partition("=")
         if not sep or not key.strip():
-            raise ValueError(f"--set expects KEY=VALUE (or --set help), got {item!r}")
+            raise MechanismError(f"--set expects KEY=VALUE (or --set help), got {item!r}")
         options[key.strip()] = value.strip()
     return options
 
@@ -226,7 +226,7 @@ def _chart_function(name):
     import importlib
 
     if name not in CHARTS:
-        raise ValueError(f"unknown chart {name!r}; known charts: {', '.join(sorted(CHARTS))}")
+        raise MechanismError(f"unknown chart {name!r}; known charts: {', '.join(sorted(CHARTS))}")
     module, function, _ = CHARTS[name]
     return getattr(importlib.import_module(module), function)
 
@@ -251,7 +251,7 @@ def _dask_client(address: str):
     try:
         from dask.distributed import Client, LocalCluster
     except ImportError as exc:
-        raise ValueError(
+        raise MechanismError(
             "--dask needs dask.distributed: pip install 'mechsynth[distributed]'"
         ) from exc
     import contextlib
@@ -264,7 +264,9 @@ def _dask_client(address: str):
         try:
             client = Client(address, timeout="10s", set_as_default=False)
         except (OSError, TimeoutError) as exc:
-            raise ValueError(f"--dask {address}: cannot reach the Dask scheduler ({exc})") from exc
+            raise MechanismError(
+                f"--dask {address}: cannot reach the Dask scheduler ({exc})"
+            ) from exc
     stack.push(lambda *exc: client.close())  # the client closes first, then the cluster
     return _ClientStack(client, stack)
 
@@ -343,7 +345,7 @@ def _optimize_run(args) -> int:
     from .synthesis.problem_file import load_problem
 
     if args.animate and not args.out:
-        raise ValueError("--animate writes optimum.gif: give --out DIR")
+        raise MechanismError("--animate writes optimum.gif: give --out DIR")
     spec = load_problem(args.problem)
     overrides = {k: getattr(args, k) for k in ("method", "starts", "seed")}
     overrides = {k: v for k, v in overrides.items() if v is not None}
@@ -451,13 +453,13 @@ def _animate_run(args) -> int:
     import numpy as np
 
     if not args.out:
-        raise ValueError("animate writes its still and animation into a folder: give --out DIR")
+        raise MechanismError("animate writes its still and animation into a folder: give --out DIR")
     if not 2 <= args.frames <= 720:
-        raise ValueError(f"--frames must be 2 to 720, got {args.frames}")
+        raise MechanismError(f"--frames must be 2 to 720, got {args.frames}")
     if not 10 <= args.dpi <= 300:
-        raise ValueError(f"--dpi must be 10 to 300, got {args.dpi}")
+        raise MechanismError(f"--dpi must be 10 to 300, got {args.dpi}")
     if not np.isfinite(args.angle):
-        raise ValueError(f"--angle must be a number of degrees, got {args.angle}")
+        raise MechanismError(f"--angle must be a number of degrees, got {args.angle}")
     design, speed, trace = _read_design(args.file)
     import matplotlib
 
@@ -537,7 +539,7 @@ def _explore_run(args) -> int:
     from .explore import serve
 
     if not 0 <= args.port <= 65535:
-        raise ValueError(f"--port must be 0 to 65535, got {args.port}")
+        raise MechanismError(f"--port must be 0 to 65535, got {args.port}")
     try:
         return serve(
             args.file,
@@ -550,10 +552,10 @@ def _explore_run(args) -> int:
             kind=args.mechanism,
         )
     except ImportError as exc:
-        raise ValueError(str(exc)) from None
+        raise MechanismError(str(exc)) from None
     except OSError as exc:
         why = exc.strerror or exc
-        raise ValueError(f"cannot serve on {args.host}:{args.port}: {why}") from None
+        raise MechanismError(f"cannot serve on {args.host}:{args.port}: {why}") from None
 
 
 # ------------------------------------------------------------------------------- main

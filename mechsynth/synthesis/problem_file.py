@@ -39,7 +39,12 @@ A measure is ``name`` or ``name(arg, ..., key=value)`` with a name from :data:`M
     unit = "mm"
 
 Units: m, mm, cm, in; rad, deg; m/s, m/s^2, rad/s, rad/s^2; rpm (speed). Values are converted to
-SI; a unit that is not listed is an error.
+SI; a unit that is not listed is an error, and so is a unit of the wrong dimension: ``speed`` is
+an angular velocity (a linear one for a slider-driven linkage), a bound has its parameter's unit,
+a constraint's value its measure's (no stroke in degrees, no pressure angle in mm). A bare number
+is SI. Every key has a type and a range (``starts`` a whole number 1..10,000, ``angles``
+8..1,000,000, ``seed`` >= 0, ``method`` ipopt/slsqp/de); unknown keys are refused with the valid
+ones listed.
 """
 
 from __future__ import annotations
