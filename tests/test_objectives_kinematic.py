@@ -4,7 +4,7 @@ branch against central finite differences of the numpy model."""
 import casadi as ca
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 import mechsynth as ms
@@ -184,6 +184,9 @@ def test_slider_crank_derivatives_random_designs(crank, ratio, off):
     # kink is never at the peak, so the epigraph does not see it)
     rod = ratio * crank
     offset = off * (rod - crank)
+    # the pressure angle is zero where the crank pin is at the guide's height, a kink of its
+    # absolute value: a design that puts it on a grid angle has no derivative there
+    assume(np.min(np.abs(crank * np.sin(ms.cycle(48)) - offset)) > 1e-6 * crank)
     _check_jacobian(
         ms.SliderCrank,
         ["crank", "rod", "offset"],
