@@ -178,12 +178,68 @@ def threading(phi, repeat):
     return rows, default
 
 
+def bound(n=4000, m=360, repeat=5):
+    """What bounds the compiled four-bar kernel: its time into a reused ``(6, n, m)`` array on
+    one thread against writing that array (``fill``) and one numpy division pass over as many
+    elements, in the same run."""
+    import numba
+
+    rng = np.random.default_rng(0)
+    a = rng.uniform(0.9, 1.1, n)
+    phi = np.linspace(0.0, 2 * np.pi, m, endpoint=False)
+    out = np.empty((6, n, m))
+    x, y = rng.uniform(1.0, 2.0, 6 * n * m), np.empty(6 * n * m)
+
+    def best(fn):
+        fn()
+        times = []
+        for _ in range(repeat):
+            t = time.perf_counter()
+            fn()
+            times.append(time.perf_counter() - t)
+        return min(times)
+
+    before = numba.get_num_threads()
+    numba.set_num_threads(1)
+    try:
+        t_kernel = best(lambda: four_bar_batch(a, 4.3, 3.0, 5.2, phi, out=out))
+    finally:
+        numba.set_num_threads(before)
+    t_fill = best(lambda: out.fill(1.0))
+    t_div = best(lambda: np.divide(1.0, x[: n * m], out=y[: n * m]))
+    return {
+        "kernel_s": t_kernel,
+        "evaluations_per_s": n * m / t_kernel,
+        "write_share": t_fill / t_kernel,
+        "write_GBps": out.nbytes / t_kernel / 1e9,
+        "fill_GBps": out.nbytes / t_fill / 1e9,
+        "division_passes": t_kernel / t_div,
+    }
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--angles", type=int, default=360)
     ap.add_argument("--repeat", type=int, default=40)
     ap.add_argument("--json", action="store_true")
+    ap.add_argument("--bound", action="store_true", help="only: what bounds the kernel")
     args = ap.parse_args(argv)
+    if args.bound:
+        b = bound()
+        if args.json:
+            print(json.dumps(b, indent=2))
+            return
+        print(f"four-bar kernel, 4,000 designs x 360 angles, 1 thread: {b['kernel_s'] * 1e3:.1f} ms"
+              f" ({b['evaluations_per_s']:.3g} evaluations/s)")  # fmt: skip
+        print(f"  writes {b['write_GBps']:.2f} GB/s; writing the array alone ({b['fill_GBps']:.2f}"
+              f" GB/s) takes {b['write_share']:.0%} of the kernel's time")  # fmt: skip
+        print(
+            f"  the kernel costs {b['division_passes']:.0f} numpy division passes over as "
+            "many elements: compute-bound"
+            if b["write_share"] < 0.5
+            else "  memory-bound"
+        )
+        return
     phi = np.linspace(0.0, 2 * np.pi, args.angles, endpoint=False)
     single = single_calls(phi, args.repeat)
     threads, default = threading(phi, args.repeat)

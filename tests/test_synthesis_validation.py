@@ -232,3 +232,18 @@ def test_no_valid_start_is_reported():
     res = prob.solve(starts=2)
     assert not res.success and res.status == "solver_failed"
     assert res.design is None and "no valid start" in res.message
+
+
+def test_result_reports_solver_iterations():
+    import mechsynth as ms
+    from mechsynth import objectives as ob
+
+    prob = ms.Problem(ms.SliderCrank, {"crank": (0.02, 0.1), "rod": (0.2, 0.5)}, {"offset": 0.0})
+    prob.minimize(ob.peak_acceleration("slider"))
+    prob.subject_to(ob.stroke("slider") == 0.1)
+    res = prob.solve(starts=2, progress=False)
+    c = res.certification
+    assert len(c.iterations) == c.starts_run == 2 and all(i > 0 for i in c.iterations)
+    assert c.total_iterations == sum(c.iterations) + c.refinement_iterations
+    assert c.to_dict()["iterations"] == list(c.iterations)
+    assert "solver iterations" in res.report()

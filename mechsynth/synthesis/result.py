@@ -111,6 +111,9 @@ class Certification:
         and value before the local polish).
     distinct_optima : number of distinct local optima (``len(local_optima)``).
     best_hits : converged starts that ended at the reported design.
+    iterations : the local solver's iterations from each start (IPOPT's ``iter_count``,
+        SLSQP's ``nit``), in start order.
+    refinement_iterations : iterations of the reported design's re-solves after refinement.
     """
 
     method: str
@@ -129,6 +132,13 @@ class Certification:
     cross_check: dict | None = None
     distinct_optima: int = 0
     best_hits: int = 0
+    iterations: tuple[int, ...] = ()
+    refinement_iterations: int = 0
+
+    @property
+    def total_iterations(self) -> int:
+        """Local solver iterations of every start and of the reported design's re-solves."""
+        return int(sum(self.iterations)) + int(self.refinement_iterations)
 
     def to_dict(self) -> dict[str, Any]:
         return dict(
@@ -157,6 +167,8 @@ class Certification:
             cross_check=self.cross_check,
             distinct_optima=self.distinct_optima,
             best_hits=self.best_hits,
+            iterations=list(self.iterations),
+            refinement_iterations=self.refinement_iterations,
         )
 
 
@@ -342,6 +354,11 @@ class Result:
             f"grid {'inputs' if linear else 'angles'}; "
             f"certified: {c.certified} (rtol {c.rtol:g})"
         )
+        if c.iterations:
+            lines.append(
+                f"  {c.total_iterations} solver iterations ({'+'.join(map(str, c.iterations))}"
+                f" from the starts, {c.refinement_iterations} in re-solves)"
+            )
         if c.cross_check:
             cc = c.cross_check
             lines.append(f"  cross-check {cc.get('method')}: value {cc.get('value')}")

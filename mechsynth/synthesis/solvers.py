@@ -322,6 +322,7 @@ class _Certifier:
         self.tr = problem._transcription(16) if tr is None else tr
         self.atoms = _peak_atoms(self.tr)
         self.rounds = 0
+        self.iterations = 0  # of the re-solves after refinement
 
     @property
     def grid(self):
@@ -383,7 +384,9 @@ class _Certifier:
             warm = None if rebuilt else run.lam  # multipliers have the old size after a rebuild
             x, status, raw, it, lam = local(self.tr, run.x, P, self.options, warm=warm)
             if status != "optimal" and run.lam is not None:  # warm start failed: cold re-solve
+                self.iterations += it
                 x, status, raw, it, lam = local(self.tr, run.x, P, self.options)
+            self.iterations += it
             new = _Run(x, status, raw, it, run.scales, lam)
             run = _assess(self.problem, self.tr, new, self.grid)
 
@@ -535,6 +538,8 @@ def solve(
         cross_check=cross,
         distinct_optima=len(local_optima),
         best_hits=int(hits),
+        iterations=tuple(int(r.iterations) for r in runs),
+        refinement_iterations=int(cert.iterations),
     )
     variables = dict(zip(problem.names, map(float, tr.params_of(np.clip(best.x[: tr.n], 0, 1)))))
     return Result(
