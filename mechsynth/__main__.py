@@ -1,11 +1,15 @@
 import os
+import signal
 import sys
 
 from .cli import EXIT_INTERRUPTED, main
 
 if __name__ == "__main__":
     rc = main()
-    if rc == EXIT_INTERRUPTED:  # a second Ctrl-C during shutdown must not turn it into a signal
+    # the work is done: a Ctrl-C during the interpreter's shutdown must not turn the exit
+    # status into a signal (or print a traceback)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if rc == EXIT_INTERRUPTED:
         sys.stdout.flush()
         sys.stderr.flush()
         os._exit(rc)

@@ -167,26 +167,24 @@ def atomic(path, mode: str = "w", **open_kwargs):
 
 @contextlib.contextmanager
 def atomic_path(path):
-    """A temporary path beside ``path`` (same suffix) for writers that take a file name (a
-    matplotlib animation writer), moved over ``path`` when the block ends without an
-    exception, removed otherwise."""
+    """A temporary path with ``path``'s own name, in a temporary folder beside it, for writers
+    that take a file name (matplotlib's ``savefig``, animation writers): moved over ``path``
+    when the block ends without an exception, removed otherwise."""
+    import shutil
+
     path = Path(path)
     folder = path.parent if str(path.parent) else Path(".")
     try:
-        fd, tmp = tempfile.mkstemp(
-            prefix=f".{path.stem}.", suffix=f".part{path.suffix}", dir=folder
-        )
+        tmpdir = tempfile.mkdtemp(prefix=f".{path.name}.", suffix=".part", dir=folder)
     except OSError as exc:
         raise MechanismError(f"cannot write {path}: {exc.strerror or exc}") from None
-    os.close(fd)
+    tmp = Path(tmpdir) / path.name
     try:
-        yield Path(tmp)
+        yield tmp
         os.chmod(tmp, 0o644)
         os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
+    finally:
+        shutil.rmtree(tmpdir, ignore_errors=True)
 
 
 def write_text(path, text: str) -> Path:
@@ -218,9 +216,8 @@ def write_csv(path, header, rows) -> Path:
 def save_figure(fig, path, **kwargs) -> Path:
     """``fig.savefig`` into ``path`` atomically (the format from the suffix)."""
     path = Path(path)
-    kwargs.setdefault("format", path.suffix.lstrip(".") or None)
-    with atomic(path, "wb") as fh:
-        fig.savefig(fh, **kwargs)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, **kwargs)
     return path
 
 
