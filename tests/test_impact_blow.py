@@ -38,13 +38,13 @@ def test_newton_law_bookkeeping(mt, e):
 
 @pytest.mark.parametrize("e", [-0.1, 1.01, float("nan")])
 def test_bad_restitution_raises(e):
-    with pytest.raises(ValueError, match="restitution e must lie in"):
+    with pytest.raises(ms.MechanismError, match="restitution e must lie in"):
         Tool(1.0, e)
 
 
 def test_bad_tool_mass_raises():
     for mass in (-1.0, 0.0, None, float("inf")):
-        with pytest.raises(ValueError, match="tool mass"):
+        with pytest.raises(ms.MechanismError, match="tool mass"):
             Tool(mass, 0.5)
 
 

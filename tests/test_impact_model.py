@@ -106,9 +106,9 @@ def test_rho_findings_at_the_special_position():
 def test_bad_input():
     with pytest.raises(ms.MechanismError, match="farther from the guide"):
         six_link(ms.deg(57), extra_rod=0.02).motion(PHI)
-    with pytest.raises(ValueError, match="profile"):
+    with pytest.raises(ms.MechanismError, match="profile"):
         five_link("spline")
-    with pytest.raises(ValueError, match="base_radius"):
+    with pytest.raises(ms.MechanismError, match="base_radius"):
         five_link(base_radius=-0.01)
 
 

@@ -110,7 +110,7 @@ class Kind:
         for d in self.dims:
             if d.name == name:
                 return d
-        raise ValueError(
+        raise MechanismError(
             f"{self.title} has no dimension {name!r}; its dimensions: "
             + ", ".join(d.name for d in self.dims)
         )
@@ -369,7 +369,7 @@ def _apply_problem(kind: Kind, data: Mapping) -> None:
     if "constraints" in data:
         cons = data["constraints"]
         if not all(isinstance(c, str) for c in cons):
-            raise ValueError(
+            raise MechanismError(
                 "the explorer reads constraints written as strings ('measure <= value')"
             )
         kind.constraints = tuple(cons)
@@ -392,7 +392,7 @@ def _apply_problem(kind: Kind, data: Mapping) -> None:
         name, lo = unmap(k, lo, kind.values)
         _, hi = unmap(k, hi, kind.values)
         if name not in names:
-            raise ValueError(f"variable {k!r} is not a dimension of {kind.title}")
+            raise MechanismError(f"variable {k!r} is not a dimension of {kind.title}")
         lo, hi = sorted((lo, hi))
         vary[name] = (lo, hi)
         kind.values[name] = 0.5 * (lo + hi)  # start in the middle of the box
@@ -496,7 +496,7 @@ class _Kinds(dict):
 
     def __missing__(self, key):
         if key not in _FACTORIES:
-            raise ValueError(
+            raise MechanismError(
                 f"unknown mechanism {key!r}; the explorer offers " + ", ".join(_FACTORIES)
             )
         return _FACTORIES[key]()
@@ -567,7 +567,7 @@ class State:
     @property
     def display(self) -> DisplayUnits:
         if self.units not in PRESETS:
-            raise ValueError(f"units must be one of {', '.join(PRESETS)}, got {self.units!r}")
+            raise MechanismError(f"units must be one of {', '.join(PRESETS)}, got {self.units!r}")
         return DisplayUnits(**PRESETS[self.units])
 
     def shown(self, value: float, unit: str) -> float:
@@ -601,7 +601,7 @@ class State:
         condition when it cannot be built."""
         bad = self.field_messages()
         if bad:
-            raise ValueError(next(iter(bad.values())))
+            raise MechanismError(next(iter(bad.values())))
         return self.kind.build(dict(self.values))
 
     def check_design(self, n: int = 360):
@@ -641,14 +641,14 @@ class State:
         """The page's problem as the dict of a problem file (SI numbers)."""
         k = self.kind
         if k.mechanism is None:
-            raise ValueError(f"{k.title} has no problem-file form")
+            raise MechanismError(f"{k.title} has no problem-file form")
         if not self.objective.strip():
-            raise ValueError("give an objective measure, e.g. peak_acceleration(slider)")
+            raise MechanismError("give an objective measure, e.g. peak_acceleration(slider)")
         bad = self.bound_messages()
         if bad:
-            raise ValueError(next(iter(bad.values())))
+            raise MechanismError(next(iter(bad.values())))
         if not self.vary:
-            raise ValueError("tick at least one dimension to vary (with its bounds)")
+            raise MechanismError("tick at least one dimension to vary (with its bounds)")
         params = k.to_params(dict(self.values)) if k.to_params else dict(self.values)
         variables = {}
         as_param = k.to_param or (lambda d, x, v: (d, x))
@@ -713,7 +713,7 @@ def _toml_value(v) -> str:
         return str(int(v))
     if isinstance(v, (float, np.floating)):
         if not np.isfinite(v):
-            raise ValueError(f"cannot write the non-finite number {v} to TOML")
+            raise MechanismError(f"cannot write the non-finite number {v} to TOML")
         return repr(float(v))
     if isinstance(v, str):
         return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
@@ -721,7 +721,7 @@ def _toml_value(v) -> str:
         return "[" + ", ".join(_toml_value(x) for x in v) + "]"
     if isinstance(v, Mapping):
         return "{ " + ", ".join(f"{_key(k)} = {_toml_value(x)}" for k, x in v.items()) + " }"
-    raise ValueError(f"cannot write {v!r} to TOML")
+    raise MechanismError(f"cannot write {v!r} to TOML")
 
 
 def _key(k: str) -> str:
@@ -767,7 +767,7 @@ def load_file(path, units: str = "si") -> State:
         try:
             data = tomllib.load(fh)
         except tomllib.TOMLDecodeError as exc:
-            raise ValueError(f"{path}: not valid TOML ({exc})") from exc
+            raise MechanismError(f"{path}: not valid TOML ({exc})") from exc
     name = data.get("mechanism")
     is_problem = "minimize" in data or "maximize" in data or "variables" in data
     if name is None and ("group" in data or "ground" in data):
@@ -789,7 +789,7 @@ def load_file(path, units: str = "si") -> State:
             state.speed = spec.speed
         return state
     if name not in KINDS:
-        raise ValueError(
+        raise MechanismError(
             f"{path}: the explorer shows the mechanisms "
             f"{', '.join(kind_names())}; got mechanism = {name!r}"
         )
@@ -925,16 +925,16 @@ def sweep_chart(
     from ..synthesis.problem_file import parse_constraint, parse_measure
 
     if x == y:
-        raise ValueError("choose two different dimensions for the chart")
+        raise MechanismError("choose two different dimensions for the chart")
     n = int(n)
     if not 2 <= n <= 200:
-        raise ValueError(f"chart points per axis must be 2 to 200, got {n}")
+        raise MechanismError(f"chart points per axis must be 2 to 200, got {n}")
     axes = {}
     for name, rng in ((x, x_range), (y, y_range)):
         d = state.kind.dim(name)
         lo, hi = rng if rng is not None else (d.lo, d.hi)
         if not lo < hi:
-            raise ValueError(f"chart axis {name}: lower end not below the upper end")
+            raise MechanismError(f"chart axis {name}: lower end not below the upper end")
         axes[name] = np.linspace(lo, hi, n)
     measures = {}
     if state.objective.strip():
@@ -945,7 +945,7 @@ def sweep_chart(
             c = parse_constraint(text)
             measures.setdefault(c.measure.name, c.measure)
     if not measures:
-        raise ValueError("the chart shows the problem's measures: give an objective")
+        raise MechanismError("the chart shows the problem's measures: give an objective")
     fixed_vals = {k: v for k, v in state.values.items() if k not in (x, y)}
     # the sweep's axes stay in SI (its figure's labels say so)
     labels = {n: f"{n}, {state.kind.dim(n).unit}" if state.kind.dim(n).unit else n for n in axes}

@@ -12,6 +12,7 @@ assumption of the study, stated so that it can be changed (``ImpactMachine.repla
 
 from __future__ import annotations
 
+from ...errors import MechanismError
 from ...units import deg
 from .drive import ImpactMachine
 from .impact import Tool
@@ -84,7 +85,7 @@ def representative_machine(kind="six", rho_deg=90.0, **changes) -> ImpactMachine
     elif kind == "base":
         lk, striker = crank_rocker(), "K"
     else:
-        raise ValueError(f"kind must be 'six', 'five', 'arc' or 'base', got {kind!r}")
+        raise MechanismError(f"kind must be 'six', 'five', 'arc' or 'base', got {kind!r}")
     tool = Tool(MASSES["tool"], MASSES["restitution"])
     base = dict(
         inertias=inertias_for(lk),

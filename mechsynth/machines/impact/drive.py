@@ -101,16 +101,16 @@ class ImpactMachine:
         for name in ("flywheel", "psi", "gamma", "speed_rpm"):
             v = float(getattr(self, name))
             if not math.isfinite(v):
-                raise ValueError(f"{name} must be finite, got {getattr(self, name)}")
+                raise MechanismError(f"{name} must be finite, got {getattr(self, name)}")
             object.__setattr__(self, name, v)
         if self.flywheel < 0:
-            raise ValueError(
+            raise MechanismError(
                 f"flywheel must be a non-negative inertia (kg m^2), got {self.flywheel}"
             )
         if self.speed_rpm <= 0:
-            raise ValueError(f"speed_rpm must be positive, got {self.speed_rpm}")
+            raise MechanismError(f"speed_rpm must be positive, got {self.speed_rpm}")
         if self.striker not in self.linkage.points:
-            raise ValueError(
+            raise MechanismError(
                 f"striker {self.striker!r} is not a point of the linkage "
                 f"({', '.join(self.linkage.points)})"
             )
@@ -351,7 +351,7 @@ def steady_state(
     iteration to ``tol`` (relative).
     """
     if method not in ("ivp", "stepping"):
-        raise ValueError(f"method must be 'ivp' or 'stepping', got {method!r}")
+        raise MechanismError(f"method must be 'ivp' or 'stepping', got {method!r}")
     motor = motor_for(machine) if motor is None else motor
     model = machine.reduced_model(gear_ratio=motor.gear_ratio) if model is None else model
     phi_b = machine.blow_angle()
@@ -457,7 +457,7 @@ def size_flywheel(machine: ImpactMachine, delta, motor=None, *, n=360, hi=1.0):
     at the blow too, so the blow itself changes). Returns ``(flywheel, SteadyState)``; 0 when
     the machine already meets ``delta``."""
     if not np.isfinite(delta) or delta <= 0:
-        raise ValueError(f"delta must be positive, got {delta}")
+        raise MechanismError(f"delta must be positive, got {delta}")
     motor = motor_for(machine) if motor is None else motor
 
     def run(jf):
@@ -469,7 +469,7 @@ def size_flywheel(machine: ImpactMachine, delta, motor=None, *, n=360, hi=1.0):
     while run(hi).delta > delta:
         hi *= 4.0
         if hi > 1e4:
-            raise ValueError(f"no flywheel up to 1e4 kg m^2 reaches delta = {delta}")
+            raise MechanismError(f"no flywheel up to 1e4 kg m^2 reaches delta = {delta}")
     from scipy.optimize import brentq  # deferred: heavy
 
     jf = brentq(lambda x: run(x).delta - delta, 0.0, hi, rtol=1e-6)

@@ -65,14 +65,14 @@ class Tool:
     def __post_init__(self):
         e = float(self.restitution)
         if not math.isfinite(e) or not 0.0 <= e <= 1.0:
-            raise ValueError(f"restitution e must lie in [0, 1], got {self.restitution}")
+            raise MechanismError(f"restitution e must lie in [0, 1], got {self.restitution}")
         object.__setattr__(self, "restitution", e)
         try:
             m = float(self.mass)
         except (TypeError, ValueError):
             m = float("nan")
         if not math.isfinite(m) or m <= 0.0:
-            raise ValueError(f"tool mass must be a positive finite mass in kg, got {self.mass}")
+            raise MechanismError(f"tool mass must be a positive finite mass in kg, got {self.mass}")
         object.__setattr__(self, "mass", m)
 
 
@@ -86,11 +86,11 @@ def newton_impact(m_eff, v, tool: Tool) -> dict:
     (dissipated in the collision, J).
     """
     if not isinstance(tool, Tool):
-        raise ValueError(f"tool must be a Tool, got {tool!r}")
+        raise MechanismError(f"tool must be a Tool, got {tool!r}")
     m_eff = np.asarray(m_eff, dtype=float)
     v = np.asarray(v, dtype=float)
     if np.any(~np.isfinite(m_eff)) or np.any(m_eff <= 0):
-        raise ValueError(f"effective mass must be positive and finite, got {m_eff}")
+        raise MechanismError(f"effective mass must be positive and finite, got {m_eff}")
     e = tool.restitution
     before = 0.5 * m_eff * v * v
     mt = tool.mass
@@ -114,7 +114,7 @@ def _striker_link(linkage, striker):
     for g in linkage.groups:
         if g.key == striker and hasattr(g, "frame"):
             return g.frame.body
-    raise ValueError(f"striker {striker!r} is neither a slider nor a point attached to a link")
+    raise MechanismError(f"striker {striker!r} is neither a slider nor a point attached to a link")
 
 
 def striker_track(linkage, striker, phi):
@@ -135,7 +135,7 @@ def striker_track(linkage, striker, phi):
             if np.allclose(np.hypot(p.x - q.x, p.y - q.y).std(), 0.0, atol=1e-12) and name != "O":
                 d = q
     if d is None:
-        raise ValueError(f"striker {striker!r}: its link turns about no ground pivot")
+        raise MechanismError(f"striker {striker!r}: its link turns about no ground pivot")
     radius = np.hypot(p.x - d.x, p.y - d.y)
     s = radius * np.unwrap(np.atleast_1d(np.asarray(link.angle))).reshape(np.shape(link.angle))
     u = radius * link.omega
@@ -150,7 +150,7 @@ def blow_angle(linkage, striker, anvil, sense=1, n=720):
     increasing coordinate), refined by Newton steps. Raises MechanismError if the anvil lies
     outside the stroke."""
     if sense not in (1, -1):
-        raise ValueError(f"sense must be +1 or -1, got {sense}")
+        raise MechanismError(f"sense must be +1 or -1, got {sense}")
     phi = np.linspace(0.0, 2 * np.pi, int(n) + 1)
     s, u, _, _ = striker_track(linkage, striker, phi)
     f = np.asarray(s) - anvil
@@ -246,9 +246,9 @@ def blow(linkage, inertias, phi, omega, tool: Tool, *, striker="N", sense=1, dri
     """
     omega = float(omega)
     if not math.isfinite(omega) or omega <= 0:
-        raise ValueError(f"crank speed before the blow must be positive, got {omega}")
+        raise MechanismError(f"crank speed before the blow must be positive, got {omega}")
     if not math.isfinite(float(drive_inertia)) or float(drive_inertia) < 0:
-        raise ValueError(f"drive_inertia must be a non-negative inertia, got {drive_inertia}")
+        raise MechanismError(f"drive_inertia must be a non-negative inertia, got {drive_inertia}")
     model, bodies = _bodies(linkage, inertias, drive_inertia)
     j, _ = reduced_inertia(linkage, list(bodies.values()), phi)
     j = float(j)

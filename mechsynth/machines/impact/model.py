@@ -206,7 +206,7 @@ def five_link(
     rb = 0.055 if base_radius is None else float(base_radius)
     rho = deg(r["rho_deg"]) if rho is None else float(rho)
     if not rb > 0:
-        raise ValueError(f"base_radius must be a positive length in m, got {base_radius}")
+        raise MechanismError(f"base_radius must be a positive length in m, got {base_radius}")
     lo, hi = rocker_swing(ground, crank, rod, rocker)
     # the contact's roll angle: sigma = rho + pi/2 - phase - theta3 (rocker angle theta3)
     phase = rho + np.pi / 2 - hi - margin
@@ -220,7 +220,7 @@ def five_link(
         centre = (rb * np.cos(a), rb * np.sin(a))
         curve = Circle(rb * s_mid, center=centre)
     else:
-        raise ValueError(f"profile must be 'involute' or 'arc', got {profile!r}")
+        raise MechanismError(f"profile must be 'involute' or 'arc', got {profile!r}")
     return fb.follower("N", on="DB", profile=curve, guide=("D", rho), offset=rb, roller=roller)
 
 
