@@ -95,24 +95,31 @@ def _rhs(model, drive):
     return f
 
 
-def _one_cycle(model, drive, w0, n, rtol):
-    phi = np.linspace(0.0, 2 * np.pi, n + 1)
+def integrate_speed(model, drive, phi, w0, rtol=1e-10, atol=1e-12):
+    """Crank speed (rad/s) at the crank angles ``phi`` (increasing) from ``w0`` at ``phi[0]``:
+    the energy-form equation of motion integrated by ``solve_ivp`` (DOP853); ``atol`` relative
+    to ``w0``. Raises MechanismError if the machine stalls or the integration fails."""
     from scipy.integrate import solve_ivp  # deferred: a heavy import few scripts need
 
     sol = solve_ivp(
         _rhs(model, drive),
-        (0.0, 2 * np.pi),
+        (phi[0], phi[-1]),
         [w0],
         t_eval=phi,
         rtol=rtol,
-        atol=1e-12 * w0,
+        atol=atol * w0,
         method="DOP853",
     )
     if not sol.success or sol.y.shape[1] != phi.size or np.any(sol.y[0] <= 0):
         raise MechanismError(
             f"integration failed from omega0={w0}: {sol.message} (machine stalls?)"
         )
-    return phi, sol.y[0]
+    return sol.y[0]
+
+
+def _one_cycle(model, drive, w0, n, rtol):
+    phi = np.linspace(0.0, 2 * np.pi, n + 1)
+    return phi, integrate_speed(model, drive, phi, w0, rtol)
 
 
 def run_up(model, drive, omega0, turns=1.0, n=360, rtol=1e-10):

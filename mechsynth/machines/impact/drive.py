@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ...dynamics.equation_of_motion import quartic_coefficients
+from ...dynamics.equation_of_motion import integrate_speed, quartic_coefficients
 from ...dynamics.inertia import reduced_inertia
 from ...dynamics.motor import InductionMotor
 from ...dynamics.reduced import ReducedModel, gravity_moment
@@ -282,32 +282,11 @@ class SteadyState:
         }
 
 
-def _rhs(model, motor):
-    def f(phi, y):
-        w = y[0]
-        return [
-            (motor.torque(w) + model.moment(phi, w) - 0.5 * model.inertia_derivative(phi) * w * w)
-            / (model.inertia(phi) * w)
-        ]
-
-    return f
-
-
 def _turn_ivp(model, motor, phi, w0, rtol):
-    from scipy.integrate import solve_ivp  # deferred: heavy
-
-    sol = solve_ivp(
-        _rhs(model, motor),
-        (phi[0], phi[-1]),
-        [w0],
-        t_eval=phi,
-        rtol=rtol,
-        atol=1e-13 * w0,
-        method="DOP853",
-    )
-    if not sol.success or sol.y.shape[1] != phi.size or np.any(sol.y[0] <= 0):
-        raise MechanismError(f"the machine stalls between blows from {w0:.6g} rad/s: {sol.message}")
-    return sol.y[0], None
+    try:
+        return integrate_speed(model, motor, phi, w0, rtol, atol=1e-13), None
+    except MechanismError as exc:
+        raise MechanismError(f"the machine stalls between blows: {exc}") from None
 
 
 def _turn_stepping(model, motor, phi, w0):

@@ -186,6 +186,20 @@ def _dev(printed, exact):
     return float(np.max(np.abs(printed - exact)) / max(np.max(np.abs(exact)), 1e-300))
 
 
+def _row(formula, quantity, printed, exact, corrected, corrected_value):
+    """One line of a formula check: the printed form's and the corrected form's deviations
+    from the exact model."""
+    dp = _dev(printed, exact)
+    return {
+        "formula": formula,
+        "quantity": quantity,
+        "printed_deviation": dp,
+        "agrees": dp < 1e-9,
+        "corrected": corrected,
+        "corrected_deviation": _dev(corrected_value, exact),
+    }
+
+
 def check_six_link(linkage, phi=None, speed=1.0):
     """Each printed six-link formula against the exact model over ``phi`` (default 720 angles).
 
@@ -199,18 +213,8 @@ def check_six_link(linkage, phi=None, speed=1.0):
     phi3, rho, eta = q["phi3"], q["rho"], q["eta"]
     rows = []
 
-    def row(formula, quantity, printed, exact, corrected, corrected_value):
-        dp = _dev(printed, exact)
-        rows.append(
-            {
-                "formula": formula,
-                "quantity": quantity,
-                "printed_deviation": dp,
-                "agrees": dp < 1e-9,
-                "corrected": corrected,
-                "corrected_deviation": _dev(corrected_value, exact),
-            }
-        )
+    def row(*args):
+        rows.append(_row(*args))
 
     eta1 = eq1_eta(phi3, rho, q["l_kd"], q["l_kn"], q["h"])
     row(
@@ -321,18 +325,8 @@ def check_five_link(linkage, phi=None, speed=1.0):
     q = five_link_quantities(linkage, phi, speed)
     rows = []
 
-    def row(formula, quantity, printed, exact, corrected, corrected_value):
-        dp = _dev(printed, exact)
-        rows.append(
-            {
-                "formula": formula,
-                "quantity": quantity,
-                "printed_deviation": dp,
-                "agrees": dp < 1e-9,
-                "corrected": corrected,
-                "corrected_deviation": _dev(corrected_value, exact),
-            }
-        )
+    def row(*args):
+        rows.append(_row(*args))
 
     l_eb, r_eb = np.abs(q["l_eb"]), q["r_eb"]
     row(
