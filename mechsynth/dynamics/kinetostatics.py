@@ -369,8 +369,60 @@ def _entries(model: ForceModel, motion: Motion):
     return A, f, n
 
 
+def _blocks(A, n):
+    """Row and column index blocks of the equilibrium system's block-triangular form (one per
+    irreducible subsystem: the driver, each Assur group), in solving order; None when the
+    system is structurally singular (left to the dense solve and its error)."""
+    import casadi as ca
+
+    rows, cols = zip(*A) if A else ((), ())
+    sp = ca.Sparsity.triplet(n, n, list(rows), list(cols))
+    if ca.sprank(sp) < n:
+        return None
+    nb, rp, cp, rb, cb, _, _ = sp.btf()
+    return [(rp[rb[k] : rb[k + 1]], cp[cb[k] : cb[k + 1]]) for k in range(nb)]
+
+
+def _cramer(entries, rows, cols, rhs):
+    """Unknowns ``cols`` of the square block ``rows`` by Cramer's rule.
+
+    Determinants by expansion along the rows over the block's nonzeros, each minor built once
+    (memoized by its column set; minors without the replaced column are shared by every
+    unknown): exact, branch-free expressions whose size follows the block's sparsity, where a
+    symbolic factorization of the whole system is dense and some ten times larger."""
+    k = len(rows)
+    nz = [[(c, entries[r, c]) for c in cols if (r, c) in entries] for r in rows]
+    memo = {}
+
+    def det(i, columns, col=None):
+        if i == k:
+            return 1.0
+        key = (columns, col if col in columns else None)
+        if key in memo:
+            return memo[key]
+        order = sorted(columns)
+        terms = nz[i]
+        if col in columns:
+            terms = [(c, v) for c, v in terms if c != col] + [(col, rhs[i])]
+        total = 0.0
+        for c, v in terms:
+            if c not in columns:
+                continue
+            minor = det(i + 1, columns - {c}, col)
+            if isinstance(minor, float) and minor == 0.0:
+                continue
+            total = total - v * minor if order.index(c) % 2 else total + v * minor
+        memo[key] = total
+        return total
+
+    full = frozenset(cols)
+    d = det(0, full)
+    return [det(0, full, c) / d for c in cols]
+
+
 def _solve_symbolic(A, f, n, motion):
-    """CasADi path: one symbolic linear solve per crank angle (column entry)."""
+    """CasADi path: per crank angle, the system solved block by block in its block-triangular
+    order (:func:`_blocks`), each block by :func:`_cramer`."""
     import casadi as ca
 
     values = list(A.values()) + list(f.values()) + [motion.phi]
@@ -382,16 +434,40 @@ def _solve_symbolic(A, f, n, motion):
         v = np.asarray(v, dtype=float)
         return float(v.ravel()[i]) if v.size > 1 else float(v)
 
-    rows = []
+    blocks = _blocks(A, n)
+    out = []
     for i in range(m):
-        Ai = ca.SX(n, n)
-        fi = ca.SX(n, 1)
-        for (r, c), v in A.items():
-            Ai[r, c] = at(v, i)
-        for r, v in f.items():
-            fi[r] = at(v, i)
-        rows.append(ca.solve(Ai, -fi).T)
-    return ca.vertcat(*rows)  # m x n
+        Ai = {}
+        for key, v in A.items():
+            v = at(v, i)
+            if not (isinstance(v, float) and v == 0.0):
+                Ai[key] = v
+        if blocks is None:
+            dense = ca.SX(n, n)
+            for (r, c), v in Ai.items():
+                dense[r, c] = v
+            fi = ca.SX(n, 1)
+            for r, v in f.items():
+                fi[r] = at(v, i)
+            out.append(ca.solve(dense, -fi).T)
+            continue
+        by_row = {}
+        for r, c in Ai:
+            by_row.setdefault(r, []).append(c)
+        x = [None] * n
+        for rows, cols in blocks:
+            inside = set(cols)
+            rhs = []
+            for r in rows:
+                s = -at(f[r], i) if r in f else 0.0
+                for c in by_row.get(r, ()):
+                    if c not in inside:
+                        s = s - Ai[r, c] * x[c]
+                rhs.append(s)
+            for c, v in zip(cols, _cramer(Ai, rows, cols, rhs), strict=True):
+                x[c] = v
+        out.append(ca.horzcat(*[ca.SX(v) for v in x]))
+    return ca.vertcat(*out)  # m x n
 
 
 def kinetostatics(model: ForceModel, motion: Motion) -> ForceResult:
@@ -402,7 +478,8 @@ def kinetostatics(model: ForceModel, motion: Motion) -> ForceResult:
     badly posed model), naming the first such angle.
 
     With CasADi symbols anywhere (design parameters, masses, loads) the same equations are
-    solved symbolically, one ``casadi.solve`` per crank angle; the result's arrays are then
+    solved symbolically, block by block in the system's block-triangular order (each block by
+    Cramer's rule over its nonzeros); the result's arrays are then
     CasADi columns over the angles, exactly differentiable.
     """
     A_ent, f_ent, n = _entries(model, motion)

@@ -14,17 +14,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...dynamics.inertia import com_track
-from ...dynamics.kinetostatics import applied_power, kinetic_energy_rate, kinetostatics
+from ...dynamics.kinetostatics import FRAME, applied_power, kinetic_energy_rate, kinetostatics
 from ...dynamics.loads import Gravity
-from ...dynamics.reduced import G
-from ...kinematics import ops
 from .drive import ImpactMachine
 
 __all__ = [
     "CycleForces",
     "cycle_forces",
-    "six_link_forces",
+    "housing_load",
     "power_balance",
     "force_findings",
     "dead_centres",
@@ -45,13 +42,7 @@ class CycleForces:
     def __init__(self, machine, phi, omega, epsilon, result, motion, axis):
         self.machine, self.phi, self.omega, self.epsilon = machine, phi, omega, epsilon
         self.result, self.motion, self.axis = result, motion, axis
-        model = machine.linkage.force_model(machine.inertias)
-        hx = 0.0
-        hy = 0.0
-        for j in model.joints:
-            if j.by == "frame":
-                fx, fy = result.reactions[j.name]
-                hx, hy = hx - np.asarray(fx), hy - np.asarray(fy)
+        hx, hy = housing_load(machine.linkage.force_model(machine.inertias), result)
         self.housing = (np.broadcast_to(hx, np.shape(phi)), np.broadcast_to(hy, np.shape(phi)))
         ax, ay = axis
         self.axial = self.housing[0] * ax + self.housing[1] * ay
@@ -64,6 +55,17 @@ class CycleForces:
 
     def joints(self):
         return list(self.result.reactions)
+
+
+def housing_load(model, result):
+    """The mechanism's total force ``(fx, fy)`` (N) on the housing: minus the reactions of the
+    joints with the frame (numbers or CasADi expressions, as ``result`` holds them)."""
+    hx = hy = 0.0
+    for j in model.joints:
+        if j.by == FRAME:
+            fx, fy = result.reactions[j.name]
+            hx, hy = hx - fx, hy - fy
+    return hx, hy
 
 
 def _axis(machine: ImpactMachine):
@@ -146,71 +148,3 @@ def force_findings(machine: ImpactMachine, n=720) -> dict:
     out["transverse_peak_N"] = float(np.max(np.abs(f.transverse)))
     out["axial_peak_N"] = float(np.max(np.abs(f.axial)))
     return out
-
-
-def _cross(ax, ay, bx, by):
-    return ax * by - ay * bx
-
-
-def six_link_forces(mech, motion, inertias, tilt=0.0, g=G):
-    """Closed-form kinetostatics of the six-link (dyad by dyad: the striker and the rod K-N, then
-    the rod A-B and the rocker, then the crank), written with ``ops`` so that it serves numpy
-    and CasADi alike; the same equilibrium as :func:`mechsynth.dynamics.kinetostatics` (tested
-    to 1e-9), a fraction of its symbolic size.
-
-    Returns ``{joint: (fx, fy)}`` for ``"O", "A", "B", "D", "K", "N"`` (the force on the joint's
-    ``on`` body as the general model names it, up to sign), ``"guide"`` (the guide's normal force
-    on the striker along the guide's left normal, N) and ``"housing"`` (the mechanism's total
-    force on the housing, ``(fx, fy)``)."""
-    model = mech.force_model(inertias)
-    b = model.bodies
-    gx, gy = g * ops.sin(tilt), -g * ops.cos(tilt)
-
-    def load(name):
-        body = b[name]
-        c = com_track(motion, body)
-        fx = body.mass * (gx - c.ax)
-        fy = body.mass * (gy - c.ay)
-        mz = 0.0 if body.link is None else -body.inertia * motion.links[body.link].epsilon
-        return c, fx, fy, mz
-
-    pts = motion.points
-    rho = mech.parameters["N_guide_angle"]
-    ux, uy = ops.cos(rho), ops.sin(rho)
-    nx, ny = -uy, ux
-    # striker N and rod K-N
-    _, fnx, fny, _ = load("N")
-    ckn, fkx, fky, mkn = load("KN")
-    k, n = pts["K"], pts["N"]
-    dx, dy = n.x - k.x, n.y - k.y
-    pu = -(fnx * ux + fny * uy)
-    num = -pu * _cross(dx, dy, ux, uy) + _cross(ckn.x - k.x, ckn.y - k.y, fkx, fky) + mkn
-    pn = num / _cross(dx, dy, nx, ny)
-    px, py = pu * ux + pn * nx, pu * uy + pn * ny  # on the striker from the rod at N
-    q = -(pn + fnx * nx + fny * ny)
-    rx, ry = px - fkx, py - fky  # on the rod K-N from the rocker at K
-    # rod A-B and rocker D-B
-    cdb, fdx, fdy, mdb = load("DB")
-    cab, fax, fay, mab = load("AB")
-    a, bb, d = pts["A"], pts["B"], pts["D"]
-    ex, ey = bb.x - d.x, bb.y - d.y
-    hx, hy = bb.x - a.x, bb.y - a.y
-    r1 = _cross(k.x - d.x, k.y - d.y, rx, ry) - _cross(cdb.x - d.x, cdb.y - d.y, fdx, fdy) - mdb
-    r2 = _cross(cab.x - a.x, cab.y - a.y, fax, fay) + mab
-    det = _cross(ex, ey, hx, hy)
-    sx = (r1 * hx - r2 * ex) / det
-    sy = (r1 * hy - r2 * ey) / det
-    tx, ty = rx - sx - fdx, ry - sy - fdy  # on the rocker from the frame at D
-    ux_, uy_ = sx - fax, sy - fay  # on the rod A-B from the crank at A
-    _, fox, foy, _ = load("OA")
-    vx, vy = ux_ - fox, uy_ - foy  # on the crank from the frame at O
-    return {
-        "O": (vx, vy),
-        "A": (ux_, uy_),
-        "B": (sx, sy),
-        "D": (tx, ty),
-        "K": (rx, ry),
-        "N": (px, py),
-        "guide": q,
-        "housing": (-(vx + tx + q * nx), -(vy + ty + q * ny)),
-    }

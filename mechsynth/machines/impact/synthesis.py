@@ -13,7 +13,11 @@ CasADi expressions (certified :class:`~mechsynth.synthesis.Problem`):
   the blow with the anvil placed where it is largest;
 * :func:`blow_work` -- the kinetic energy the machine loses in that blow (what the motor must
   give back every turn): ``J omega^2 (1 - ((J - e m_t u^2) / (J + m_t u^2))^2) / 2``;
-* :func:`peak_transverse_force` -- the mechanism's load on the housing across the guide.
+* :func:`peak_transverse_force` -- the mechanism's load on the housing across the guide;
+* :func:`peak_joint_force` -- the largest joint reaction.
+
+The forces are the linkage's general kinetostatics (:func:`mechsynth.dynamics.kinetostatics`,
+solved symbolically group by group), the model every other force figure of the package uses.
 """
 
 from __future__ import annotations
@@ -23,12 +27,14 @@ import time
 import numpy as np
 
 from ...dynamics.inertia import kinetic_energy
+from ...dynamics.kinetostatics import kinetostatics
+from ...dynamics.loads import Gravity
 from ...kinematics import ops
 from ...objectives import kinematic as ob
 from ...objectives.base import CycleMeasure
 from ...units import deg
 from .design import MASSES, inertias_for
-from .forces import six_link_forces
+from .forces import housing_load
 
 __all__ = [
     "VARIABLES",
@@ -96,20 +102,26 @@ def blow_work(tool_mass, restitution, drive_inertia, masses=None) -> CycleMeasur
     return CycleMeasure("energy per blow from the machine", per_angle, "max", "J")
 
 
+def _forces(mech, motion, masses, tilt):
+    model = mech.force_model(inertias_for(mech, masses), [Gravity(tilt=tilt)])
+    return model, kinetostatics(model, motion)
+
+
 def _transverse(mech, motion, masses, tilt):
-    f = six_link_forces(mech, motion, inertias_for(mech, masses), tilt)
+    model, res = _forces(mech, motion, masses, tilt)
     rho = mech.parameters["N_guide_angle"]
-    hx, hy = f["housing"]
+    hx, hy = housing_load(model, res)
     return -hx * ops.sin(rho) + hy * ops.cos(rho)
 
 
 def peak_joint_force(masses=None, tilt=0.0, joints=("O", "A", "B", "D", "K", "N")):
-    """Peak magnitude (N) of the joint forces over the cycle (closed-form kinetostatics of the
-    six-link, :func:`~.forces.six_link_forces`); smooth branches: the squared magnitudes."""
+    """Peak magnitude (N) of the joint forces over the cycle; smooth branches: the squared
+    magnitudes."""
     masses = MASSES if masses is None else masses
 
     def squares(mech, motion):
-        f = six_link_forces(mech, motion, inertias_for(mech, masses), tilt)
+        _, res = _forces(mech, motion, masses, tilt)
+        f = res.reactions
         return tuple(f[j][0] * f[j][0] + f[j][1] * f[j][1] for j in joints)
 
     def per_angle(mech, motion):
