@@ -150,9 +150,8 @@ def crank_pin(c, s, length, x0=0.0, y0=0.0) -> PointJet:
     The form the batch kernels use: the sines and cosines of a crank-angle grid are computed once
     for all designs.
     """
-    return PointJet(
-        x0 + length * c, y0 + length * s, -length * s, length * c, -length * c, -length * s
-    )
+    x, y = length * c, length * s
+    return PointJet(x0 + x, y0 + y, -y, x, -x, -y)
 
 
 def link_angle(p: PointJet, q: PointJet) -> Jet:
@@ -239,8 +238,13 @@ def dyad_rrr(p1: PointJet, p2: PointJet, l1, l2, branch=1, phi=None):
 
 def _rrp_slide(t, hgt, t1, h1, t2, h2, length, branch, phi):
     """The slider's jet along its guide from the jets of the foot ``t`` and the height ``hgt`` of
-    the link's moving end over the guide: ``s = t + branch sqrt(length^2 - hgt^2)``, with the
-    assembly and toggle checks. Shared by the fixed and the moving guide."""
+    the link's moving end over the guide, with the assembly and toggle checks. Shared by the
+    fixed and the moving guide.
+
+    The link runs ``w = branch sqrt(length^2 - hgt^2)`` along the guide, ``s = t + w``; from
+    ``w w' = -hgt h1`` and its derivative, ``w' = -hgt h1 / w`` and
+    ``w'' = -(h1^2 + hgt h2 + w'^2) / w``. Returns the slider's jet, ``w`` and ``-w``.
+    """
     w2 = _check_nonnegative(
         length * length - hgt * hgt,
         length * length,
@@ -248,10 +252,14 @@ def _rrp_slide(t, hgt, t1, h1, t2, h2, length, branch, phi):
         phi,
     )
     w = ops.sqrt(w2)
-    w_1 = -hgt * h1 / w
-    w_2 = -(h1 * h1 + hgt * h2) / w - (hgt * h1) ** 2 / (w * w2)
-    _check_toggle("RRP dyad: link perpendicular to the guide (toggle position)", phi, w_1, w_2)
-    return Jet(t + branch * w, t1 + branch * w_1, t2 + branch * w_2)
+    if branch < 0:
+        w = -w
+    nw = -w
+    w_1 = hgt * h1 / nw
+    w_2 = (h1 * h1 + hgt * h2 + w_1 * w_1) / nw
+    # w'' holds w'^2: it is not finite wherever w' is not, so it alone is checked
+    _check_toggle("RRP dyad: link perpendicular to the guide (toggle position)", phi, w_2)
+    return Jet(t + w, t1 + w_1, t2 + w_2), w, nw
 
 
 @_toggles_raise
@@ -267,30 +275,47 @@ def dyad_rrp(p: PointJet, length, guide_x=0.0, guide_y=0.0, guide_angle=0.0, bra
     b : PointJet of the slider joint.
     s : Jet of the slider position along the guide, measured from (guide_x, guide_y).
     theta : Jet of the angle of the link p -> B.
+
+    Notes
+    -----
+    In the guide's frame the link is ``length (cos a, sin a) = (w, -hgt)`` (see
+    :func:`_rrp_slide`), so its angle's analogs are ``a' = -h1 / w`` and
+    ``a'' = -(h2 + hgt a'^2) / w``, and the fixed guide adds nothing to them.
     """
-    ux, uy = ops.cos(guide_angle), ops.sin(guide_angle)
-    nx, ny = -uy, ux
     rx, ry = p.x - guide_x, p.y - guide_y
-    s = _rrp_slide(
-        rx * ux + ry * uy,  # foot of p along the guide
-        rx * nx + ry * ny,  # signed height of p above the guide
-        p.dx * ux + p.dy * uy,
-        p.dx * nx + p.dy * ny,
-        p.ddx * ux + p.ddy * uy,
-        p.ddx * nx + p.ddy * ny,
-        length,
-        branch,
-        phi,
-    )
-    b = PointJet(
-        guide_x + s.value * ux,
-        guide_y + s.value * uy,
-        s.d1 * ux,
-        s.d1 * uy,
-        s.d2 * ux,
-        s.d2 * uy,
-    )
-    return b, s, link_angle(p, b)
+    along_x = ops.is_zero(guide_angle)  # a guide along +x: its frame is the plane's
+    if along_x:
+        ux, uy = 1.0, 0.0
+        t, hgt, t1, h1, t2, h2 = rx, ry, p.dx, p.dy, p.ddx, p.ddy
+    else:
+        ux, uy = ops.cos(guide_angle), ops.sin(guide_angle)
+        t, hgt = rx * ux + ry * uy, ry * ux - rx * uy  # foot along the guide, signed height
+        t1, h1 = p.dx * ux + p.dy * uy, p.dy * ux - p.dx * uy
+        t2, h2 = p.ddx * ux + p.ddy * uy, p.ddy * ux - p.ddx * uy
+    s, w, nw = _rrp_slide(t, hgt, t1, h1, t2, h2, length, branch, phi)
+    if along_x:
+        b = PointJet(
+            guide_x + s.value,
+            guide_y + ops.zeros_like(s.value),
+            s.d1 * 1.0,  # copies: B's track and the slider's are separate arrays
+            ops.zeros_like(s.d1),
+            s.d2 * 1.0,
+            ops.zeros_like(s.d2),
+        )
+        angle = ops.arctan2(-hgt, w)
+    else:
+        b = PointJet(
+            guide_x + s.value * ux,
+            guide_y + s.value * uy,
+            s.d1 * ux,
+            s.d1 * uy,
+            s.d2 * ux,
+            s.d2 * uy,
+        )
+        angle = ops.arctan2(w * uy - hgt * ux, w * ux + hgt * uy)
+    a1 = h1 / nw
+    theta = Jet(angle, a1, (h2 + hgt * a1 * a1) / nw)
+    return b, s, theta
 
 
 @_toggles_raise
@@ -326,7 +351,7 @@ def dyad_rrp_on(p: PointJet, length, g: PointJet, theta: Jet, branch=1, phi=None
     hgt = rx * nx + ry * ny
     r1u = rx1 * ux + ry1 * uy
     r1n = rx1 * nx + ry1 * ny
-    s = _rrp_slide(
+    s, _, _ = _rrp_slide(
         t,
         hgt,
         r1u + w * hgt,

@@ -113,6 +113,8 @@ def guard_motion(params: dict, phi, *rates, arrays: int = MOTION_ARRAYS):
 def speed_pair(speed, epsilon):
     """(omega, epsilon) for a motion: analogs (1, 0) when ``speed`` is None."""
     if speed is None:
+        if type(epsilon) is float and epsilon == 0.0:
+            return 1.0, 0.0
         if not ops.is_symbolic(epsilon) and np.any(np.asarray(epsilon) != 0.0):
             raise MechanismError("epsilon (crank angular acceleration) needs a speed")
         return 1.0, 0.0

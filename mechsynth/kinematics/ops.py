@@ -11,6 +11,8 @@ import numpy as np
 
 __all__ = [
     "is_symbolic",
+    "is_zero",
+    "zeros_like",
     "sin",
     "cos",
     "tan",
@@ -37,6 +39,20 @@ def is_symbolic(*values) -> bool:
         if t not in _NUMERIC and t.__module__.startswith("casadi"):
             return True
     return False
+
+
+def is_zero(x) -> bool:
+    """True if ``x`` is the number 0 (not an array, not a symbol): lets a block skip the work a
+    zero parameter makes void (a guide along +x needs no rotation into its frame)."""
+    return (type(x) is float or type(x) is int) and x == 0
+
+
+def zeros_like(x):
+    """Zeros of the shape of ``x``: a fresh array for an array, ``0 * x`` otherwise (a number
+    or a CasADi expression)."""
+    if type(x) is np.ndarray:
+        return np.zeros(x.shape)
+    return 0.0 * x
 
 
 def _ca():

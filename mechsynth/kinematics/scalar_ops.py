@@ -37,6 +37,16 @@ _PIO4, _PIO2, _PI = math.pi / 4, math.pi / 2, math.pi
 
 
 @_jit
+def is_zero(x):
+    return x == 0.0
+
+
+@_jit
+def zeros_like(x):
+    return 0.0
+
+
+@_jit
 def sin(x):
     return math.sin(x)
 

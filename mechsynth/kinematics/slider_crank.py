@@ -130,12 +130,17 @@ class SliderCrank(Mechanism):
         omega, eps = speed_pair(speed, epsilon)
         phi = as_angles(phi)
         guard_motion({"crank": self.crank, "rod": self.rod, "offset": self.offset}, phi, omega, eps)
-        a, b, s, rod = self.jets(phi)
-        crank_jet = Jet(phi + 0.0 * self.crank, 1.0 + 0.0 * a.x, 0.0 * a.x)
-        points = {"O": PointJet.fixed(0.0 * a.x, 0.0 * a.x), "A": a, "B": b}
+        a, b, s, rod = slider_crank_chain(
+            ops.cos(phi), ops.sin(phi), self.crank, self.rod, self.offset, phi
+        )
+        zero = ops.zeros_like(a.x)
+        crank_jet = Jet(phi + 0.0 * self.crank, 1.0 + zero, ops.zeros_like(a.x))
+        points = {"O": PointJet.fixed(zero, ops.zeros_like(a.x)), "A": a, "B": b}
         for name, (u, v) in (coupler_points or {}).items():
             points[name] = coupler_point(a, rod, u, v)
-        pressure = ops.arcsin(ops.fabs(self.offset - a.y) / self.rod)
+        # the rod's angle from the guide is within (-pi/2, pi/2) (B ahead of A): its size is
+        # the pressure angle, arcsin(|offset - y_A| / rod)
+        pressure = ops.fabs(rod.value)
         return Motion(
             phi=phi,
             omega=omega,

@@ -45,7 +45,9 @@ class PointJet(NamedTuple):
     @staticmethod
     def fixed(x, y) -> PointJet:
         """A fixed point (frame pivot): zero analogs."""
-        return PointJet(x, y, 0.0 * x, 0.0 * y, 0.0 * x, 0.0 * y)
+        return PointJet(
+            x, y, ops.zeros_like(x), ops.zeros_like(y), ops.zeros_like(x), ops.zeros_like(y)
+        )
 
 
 def to_time(jet: Jet, omega, epsilon):
