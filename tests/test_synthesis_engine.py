@@ -100,6 +100,25 @@ def test_maximized_peak_and_coarse_grid_refinement():
     assert res.certification.refinement_rounds >= 1
 
 
+def test_unused_refinement_slots_add_no_constraints():
+    """The refinement slots not yet holding an angle repeat a grid angle; their epigraph rows are
+    left free, so an active peak is never one constraint repeated up to 17 times (a degenerate
+    program)."""
+    prob = _sc_problem(angles=32)
+    prob.minimize(ob.peak_acceleration("slider")).subject_to(ob.max_pressure_angle() <= 0.5)
+    tr = prob._transcription(16)
+    n_slots = 32 + 16
+    epi = np.array([k[0] == "epigraph" for k in tr.g_kinds])
+    assert epi.sum() % n_slots == 0
+    branches = epi.sum() // n_slots
+    for used in (32, 40, 48):
+        lbg, ubg = tr.g_bounds(used)
+        free = ~np.isfinite(lbg) & ~np.isfinite(ubg)
+        assert free.sum() == branches * (n_slots - used)
+        assert np.all(epi[free])
+        assert np.array_equal(ubg[~free], tr.ubg[~free])
+
+
 def test_time_ratio_inequality():
     prob = _sc_problem()
     prob.maximize(ob.stroke()).subject_to(ob.time_ratio() <= 1.1, ob.max_pressure_angle() <= 0.6)

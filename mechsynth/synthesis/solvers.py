@@ -140,11 +140,13 @@ _WARM = {
 }
 
 
-def _ipopt(tr: Transcription, x0, P, options, warm=None):
-    """IPOPT from ``x0``; ``warm`` = (lam_x, lam_g) of a previous solve re-starts close to it
-    (small barrier parameter) instead of from the centre of the box."""
+def _ipopt(tr: Transcription, x0, P, options, warm=None, n_grid=None):
+    """IPOPT from ``x0`` on the first ``n_grid`` grid angles of ``P`` (all slots when None);
+    ``warm`` = (lam_x, lam_g) of a previous solve re-starts close to it (small barrier
+    parameter) instead of from the centre of the box."""
     opts = dict(options or {})
-    args = dict(x0=x0, p=P, lbx=tr.lbx, ubx=tr.ubx, lbg=tr.lbg, ubg=tr.ubg)
+    lbg, ubg = (tr.lbg, tr.ubg) if n_grid is None else tr.g_bounds(n_grid)
+    args = dict(x0=x0, p=P, lbx=tr.lbx, ubx=tr.ubx, lbg=lbg, ubg=ubg)
     if warm is not None:
         opts = {**_WARM, **opts}
         args.update(lam_x0=warm[0], lam_g0=warm[1])
@@ -164,8 +166,10 @@ def _ipopt(tr: Transcription, x0, P, options, warm=None):
     return x, status, raw, int(stats.get("iter_count", 0)), lam
 
 
-def _slsqp(tr: Transcription, x0, P, options, warm=None):
+def _slsqp(tr: Transcription, x0, P, options, warm=None, n_grid=None):
     from scipy.optimize import minimize
+
+    lbg, ubg = (tr.lbg, tr.ubg) if n_grid is None else tr.g_bounds(n_grid)
 
     f_fun, g_fun = tr.solver("functions")
     cache: dict[str, Any] = {}
@@ -180,19 +184,19 @@ def _slsqp(tr: Transcription, x0, P, options, warm=None):
                 f=float(f),
                 df=np.asarray(df, dtype=float).ravel(),
                 g=np.asarray(g, dtype=float).ravel(),
-                jg=np.asarray(jg, dtype=float).reshape(len(tr.lbg), -1),
+                jg=np.asarray(jg, dtype=float).reshape(len(lbg), -1),
             )
         return cache
 
-    eq = np.isfinite(tr.lbg) & (tr.lbg == tr.ubg)
-    up = np.isfinite(tr.ubg) & ~eq
-    lo = np.isfinite(tr.lbg) & ~eq
+    eq = np.isfinite(lbg) & (lbg == ubg)
+    up = np.isfinite(ubg) & ~eq
+    lo = np.isfinite(lbg) & ~eq
     cons = []
     if eq.any():
         cons.append(
             dict(
                 type="eq",
-                fun=lambda x: fg(x)["g"][eq] - tr.lbg[eq],
+                fun=lambda x: fg(x)["g"][eq] - lbg[eq],
                 jac=lambda x: fg(x)["jg"][eq],
             )
         )
@@ -200,7 +204,7 @@ def _slsqp(tr: Transcription, x0, P, options, warm=None):
         cons.append(
             dict(
                 type="ineq",
-                fun=lambda x: tr.ubg[up] - fg(x)["g"][up],
+                fun=lambda x: ubg[up] - fg(x)["g"][up],
                 jac=lambda x: -fg(x)["jg"][up],
             )
         )
@@ -208,7 +212,7 @@ def _slsqp(tr: Transcription, x0, P, options, warm=None):
         cons.append(
             dict(
                 type="ineq",
-                fun=lambda x: fg(x)["g"][lo] - tr.lbg[lo],
+                fun=lambda x: fg(x)["g"][lo] - lbg[lo],
                 jac=lambda x: fg(x)["jg"][lo],
             )
         )
@@ -382,10 +386,11 @@ class _Certifier:
             self.rounds += 1
             P = self.tr.parameter_vector(self.grid, *run.scales)
             warm = None if rebuilt else run.lam  # multipliers have the old size after a rebuild
-            x, status, raw, it, lam = local(self.tr, run.x, P, self.options, warm=warm)
+            n_grid = len(self.grid)
+            x, status, raw, it, lam = local(self.tr, run.x, P, self.options, warm, n_grid)
             if status != "optimal" and run.lam is not None:  # warm start failed: cold re-solve
                 self.iterations += it
-                x, status, raw, it, lam = local(self.tr, run.x, P, self.options)
+                x, status, raw, it, lam = local(self.tr, run.x, P, self.options, None, n_grid)
             self.iterations += it
             new = _Run(x, status, raw, it, run.scales, lam)
             run = _assess(self.problem, self.tr, new, self.grid)
@@ -468,7 +473,8 @@ def solve(
     local = _LOCAL[local_method]
     for z0, scales, tau0 in _progress(points, len(points), progress, f"{local_method} starts"):
         P = tr.parameter_vector(grid, *scales)
-        x, status, raw, it, lam = local(tr, np.concatenate([z0, tau0]), P, options)
+        start = np.concatenate([z0, tau0])
+        x, status, raw, it, lam = local(tr, start, P, options, None, len(grid))
         runs.append(_assess(problem, tr, _Run(x, status, raw, it, scales, lam), grid))
 
     tol = problem.tol

@@ -17,7 +17,8 @@ directly; its derivative is the derivative at the grid's arg-max, which is the t
 (Danskin) once certification has put the true arg-max into the grid.
 
 The grid is ``N`` uniform base angles plus ``K`` slots for refinement angles. The angles are
-*parameters* of the CasADi function, so refining the grid does not rebuild the solver.
+*parameters* of the CasADi function, so refining the grid does not rebuild the solver; the
+epigraph rows of the slots not yet used are left unbounded (:meth:`Transcription.g_bounds`).
 """
 
 from __future__ import annotations
@@ -289,11 +290,14 @@ class Transcription(NumericForms):
             lbg.append(0.0 if c.op in (">=", "==") else -np.inf)
             ubg.append(0.0 if c.op in ("<=", "==") else np.inf)
             kinds.append(("user", i))
+        slots = [np.full(len(lbg), -1)]  # grid slot of each row (-1: not a per-angle row)
         for k, e in enumerate(epis):
             g_rows.append(e.rows)
             lbg += [-np.inf] * e.rows.numel()
             ubg += [0.0] * e.rows.numel()
             kinds += [("epigraph", k)] * e.rows.numel()
+            rows = np.arange(e.rows.numel())
+            slots.append(rows % phi.numel() if e.atom.kind == "peak" else np.full(rows.size, -1))
         hook = getattr(self.cls, "feasibility_constraints", None)
         self.feasibility_names: list[str] = []
         if hook is not None:
@@ -313,6 +317,7 @@ class Transcription(NumericForms):
         self.g = ca.vertcat(*g_rows) if g_rows else ca.SX(0, 1)
         self.lbg, self.ubg = np.array(lbg, dtype=float), np.array(ubg, dtype=float)
         self.g_kinds = kinds
+        self.g_slots = np.concatenate(slots + [np.full(len(lbg) - sum(map(len, slots)), -1)])
         self.lbx = np.concatenate(
             [np.zeros(self.n), [0.0 if s else -np.inf for s in self._sqrt_tau]]
         )
@@ -338,6 +343,16 @@ class Transcription(NumericForms):
         full[: grid.size] = grid
         full[grid.size :] = grid[0]  # unused slots repeat an angle already in the grid
         return np.concatenate([full, [f_scale], t_scales, g_scales])
+
+    def g_bounds(self, n_grid: int):
+        """``(lbg, ubg)`` for a grid of ``n_grid`` angles: the epigraph rows of the unused
+        refinement slots are left free. (Those slots repeat an angle of the grid; bounding their
+        rows would duplicate an active constraint up to ``n_extra`` times, a degenerate program
+        that IPOPT crawls through.)"""
+        unused = self.g_slots >= n_grid
+        lbg, ubg = self.lbg.copy(), self.ubg.copy()
+        lbg[unused], ubg[unused] = -np.inf, np.inf
+        return lbg, ubg
 
     def solver(self, method: str, options: dict | None = None):
         """The cached CasADi solver ``method`` ("ipopt") or casadi Functions ("functions")."""
