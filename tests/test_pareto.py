@@ -146,3 +146,47 @@ def test_pareto_chart_cli(tmp_path, capsys):
     assert len(list(csv.DictReader((tmp_path / "slider_crank_pareto.csv").open()))) == 3
     assert '"status": "optimal"' in (tmp_path / "slider_crank_pareto.json").read_text()
     assert main(["chart", "slider-crank-pareto", "--set", "bogus=1"]) == 1
+
+
+def test_an_anchor_beaten_by_a_sweep_point_is_solved_again_from_it():
+    """Multi-start anchors are local optima: when a point of the sweep beats the first anchor in
+    its own objective (here maximized) or the second anchor in the second (minimized), the
+    anchor is re-solved from that point's design and replaced only if the new solve is better."""
+    from types import SimpleNamespace
+
+    from mechsynth.synthesis.pareto import _polish_anchors
+
+    def res(x, ok=True):
+        return SimpleNamespace(success=ok, variables={"x": x})
+
+    # (first: max, second: min); point 2 beats anchor 0 in `first`, point 1 beats the last
+    # anchor in `second`
+    vals = [(10.0, 50.0), (9.0, 5.0), (12.0, 30.0), (8.0, 10.0)]
+    results = [res(0.0), res(1.0), res(2.0), res(3.0)]
+    eps = [50.0, 40.0, 30.0, 10.0]
+    calls = []
+
+    def anchor1(x0):
+        calls.append(("first", x0["x"]))
+        return res(9.9), (13.0, 31.0)
+
+    def anchor2(x0):
+        calls.append(("second", x0["x"]))
+        return res(9.8), (8.5, 6.0)  # not better than the 5.0 that beat it, but than 10.0
+
+    _polish_anchors(results, vals, eps, anchor1, anchor2, ("max", "min"))
+    assert calls == [("first", 2.0), ("second", 1.0)]
+    assert vals[0] == (13.0, 31.0) and results[0].variables["x"] == 9.9 and eps[0] == 31.0
+    assert vals[3] == (8.5, 6.0) and eps[3] == 6.0
+    # a re-solve that fails or is worse leaves the anchor as it was
+    vals2 = [(10.0, 50.0), (12.0, 30.0), (8.0, 10.0)]
+    results2 = [res(0.0), res(2.0), res(3.0)]
+    _polish_anchors(
+        results2,
+        vals2,
+        [0, 0, 0],
+        lambda x0: (res(7.0, ok=False), (20.0, 1.0)),
+        None,
+        ("max", "min"),
+    )
+    assert vals2[0] == (10.0, 50.0) and results2[0].variables["x"] == 0.0

@@ -253,6 +253,8 @@ def pareto_front(
     solve_options: dict | None = None,
     lexicographic_rtol: float = 1e-7,
     anchor_x0: dict | None = None,
+    polish_anchors: bool = True,
+    first_anchor=None,
 ) -> ParetoFront:
     """Pareto front of ``first`` against ``second`` by the epsilon-constraint method.
 
@@ -276,6 +278,13 @@ def pareto_front(
     lexicographic_rtol : relative slack of ``second`` at its optimum in the second anchor.
     anchor_x0 : optional start design ``{variable: value}`` of the two anchors (their first
         start; the other starts are Sobol points), e.g. a known good design.
+    first_anchor : an optional :class:`~mechsynth.synthesis.Result` of ``problem`` with
+        ``first`` alone already solved (e.g. the synthesis the front extends): it is the first
+        anchor instead of a new solve.
+    polish_anchors : the anchors are local optima of multi-start solves; when a point of the
+        sweep beats an anchor in its own objective (``first`` for the first anchor, ``second``
+        for the second), the anchor is solved again from that point's design and kept if
+        better (``ParetoFront.results`` then holds the re-solved anchor).
 
     Returns
     -------
@@ -314,10 +323,36 @@ def pareto_front(
             return np.nan, np.nan
         return true_value(p, first, res.design), true_value(p, second, res.design)
 
+    def lexicographic(s_best):
+        slack = lexicographic_rtol * max(abs(s_best), 1e-12)
+        return s_best + slack if senses[1] == "min" else s_best - slack
+
+    def anchor1(x0):
+        """The first anchor (``first`` alone) from ``x0``, one start: (result, values)."""
+        p, r = solve(first, senses[0], x0=x0, n_starts=1)
+        return r, measured(p, r)
+
+    def anchor2(x0):
+        """The second anchor from ``x0``: ``second`` alone, then ``first`` at its optimum."""
+        _, rs = solve(second, senses[1], x0=x0, n_starts=1)
+        if not rs.success:
+            return None, (np.nan, np.nan)
+        p, r = solve(first, senses[0], lexicographic(float(rs.value)), x0=rs.variables, n_starts=1)
+        return r, measured(p, r)
+
     results, eps_list, vals = [], [], []  # per point, anchors first and last
     bar = progress_bar(total=n, desc="Pareto front", enabled=progress, unit="point")
     # anchor 1: first alone
-    p1, r1 = solve(first, senses[0], x0=anchor_x0, n_starts=anchor_starts)
+    if first_anchor is None:
+        p1, r1 = solve(first, senses[0], x0=anchor_x0, n_starts=anchor_starts)
+    else:
+        if set(first_anchor.variables or {}) != set(problem.names):
+            raise MechanismError(
+                f"first_anchor's variables {sorted(first_anchor.variables or {})} are not the "
+                f"problem's {sorted(problem.names)}"
+            )
+        p1, r1 = problem.copy(), first_anchor
+        (p1.minimize if senses[0] == "min" else p1.maximize)(first)
     results.append(r1)
     vals.append(measured(p1, r1))
     eps_list.append(vals[-1][1])
@@ -327,8 +362,7 @@ def pareto_front(
         _, r2s = solve(second, senses[1], x0=anchor_x0, n_starts=anchor_starts)
         if r2s.success:
             s_best = float(r2s.value)
-            slack = lexicographic_rtol * max(abs(s_best), 1e-12)
-            bound = s_best + slack if senses[1] == "min" else s_best - slack
+            bound = lexicographic(s_best)
             p2, r2 = solve(first, senses[0], bound, x0=r2s.variables)
             s_worst = eps_list[0]
             if eps is None:
@@ -353,6 +387,8 @@ def pareto_front(
             eps_list.append(np.nan)
     bar.update(n - bar.n)
     bar.close()
+    if polish_anchors and len(results) >= 3 and r1.success:
+        _polish_anchors(results, vals, eps_list, anchor1, anchor2, senses)
     success = np.array([r.success for r in results], dtype=bool)
     f1 = np.array([v[0] for v in vals], dtype=float)
     f2 = np.array([v[1] for v in vals], dtype=float)
@@ -374,6 +410,33 @@ def pareto_front(
         variables=tuple(problem.names),
         solve_time=time.perf_counter() - t0,
     )
+
+
+def _polish_anchors(results, vals, eps_list, anchor1, anchor2, senses):
+    """Re-solve an anchor from the sweep point that beats it in the anchor's own objective."""
+    sign = [1.0 if s == "min" else -1.0 for s in senses]
+
+    def better(a, b, k):  # a strictly better than b in objective k (relative 1e-9)
+        return sign[k] * (a - b) < -1e-9 * max(abs(a), abs(b), 1e-12)
+
+    inner = range(1, len(results) - 1)
+    ok = [k for k in inner if results[k].success and np.all(np.isfinite(vals[k]))]
+    # the first anchor: `first` alone
+    beat = [k for k in ok if better(vals[k][0], vals[0][0], 0)]
+    if beat:
+        k = min(beat, key=lambda k: sign[0] * vals[k][0])
+        r, v = anchor1(results[k].variables)
+        if r.success and better(v[0], vals[0][0], 0):
+            results[0], vals[0], eps_list[0] = r, v, v[1]
+    # the second anchor: the best `second`, then `first` at it
+    last = len(results) - 1
+    if results[last].success:
+        beat = [k for k in ok if better(vals[k][1], vals[last][1], 1)]
+        if beat:
+            k = min(beat, key=lambda k: sign[1] * vals[k][1])
+            r, v = anchor2(results[k].variables)
+            if r is not None and r.success and better(v[1], vals[last][1], 1):
+                results[last], vals[last], eps_list[last] = r, v, v[1]
 
 
 @chart_options(

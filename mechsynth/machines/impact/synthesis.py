@@ -195,13 +195,16 @@ def synthesize(machine, starts=3, x0=None, **options) -> dict:
     """Solve :func:`impact_problem` (IPOPT, ``starts`` multi-starts, certified); returns a dict:
     the status, the optimum's variables and blow energy, the representative design's values,
     the certification and the checks of the optimum on the exact model (the blow by
-    :mod:`.impact` with the anvil where the energy peaks, stroke, angles, peak forces).
-    ``x0``: an optional first start ``{variable: value}`` (the others are Sobol points)."""
+    :mod:`.impact` with the anvil where the energy peaks, stroke, angles, peak forces) and
+    ``"result"``, the :class:`~mechsynth.synthesis.Result` (not for JSON; the first anchor of
+    :func:`pareto_front`). ``x0``: an optional first start ``{variable: value}`` (the others
+    are Sobol points)."""
     prob, masses = impact_problem(machine, **options)
     t = time.perf_counter()
     res = prob.solve(starts=starts, progress=False, x0=x0)
     start = prob.evaluate(machine.linkage)
     out = {
+        "result": res,
         "status": res.status,
         "success": bool(res.success),
         "blow_energy_J": float(res.value) if res.success else None,
@@ -225,11 +228,15 @@ def synthesize(machine, starts=3, x0=None, **options) -> dict:
     return out
 
 
-def pareto_front(machine, n=5, starts=1, anchor_starts=3, anchor_x0=None, **options) -> dict:
+def pareto_front(
+    machine, n=5, starts=1, anchor_starts=3, anchor_x0=None, optimum=None, **options
+) -> dict:
     """The Pareto front of the blow energy (maximized) against the peak load across the tool
     axis on the housing (minimized), over :func:`impact_problem`'s feasible set, by the package's
     epsilon-constraint sweep (:func:`mechsynth.synthesis.pareto.pareto_front`): every point a
-    certified solve. Returns ``front.to_dict()`` plus the solve time."""
+    certified solve. ``optimum``: :func:`synthesize`'s output with the same options, whose
+    result is then the energy's anchor (not solved again). Returns ``front.to_dict()`` plus the
+    solve time."""
     from ...synthesis.pareto import pareto_front as sweep
 
     prob, masses = impact_problem(machine, **options)
@@ -244,6 +251,7 @@ def pareto_front(machine, n=5, starts=1, anchor_starts=3, anchor_x0=None, **opti
         anchor_starts=int(anchor_starts),
         progress=False,
         anchor_x0=anchor_x0,
+        first_anchor=None if optimum is None else optimum["result"],
     )
     d = front.to_dict()
     d["solve_time_s"] = time.perf_counter() - t
