@@ -200,39 +200,47 @@ def dyad_rrr(p1: PointJet, p2: PointJet, l1, l2, branch=1, phi=None):
     dx, dy = p2.x - p1.x, p2.y - p1.y
     d2 = dx * dx + dy * dy
     a = (l1 * l1 - l2 * l2 + d2) / (2.0 * d2)  # fraction of p1->p2 to the foot of C
-    h2 = l1 * l1 / d2 - a * a  # (height of C above the line / d)^2
+    q = l1 * l1 / d2
     h2 = _check_nonnegative(
-        h2,
-        l1 * l1 / d2,
+        q - a * a,  # (height of C above the line / d)^2
+        q,
         "RRR dyad: distance between its pivots outside [|l1 - l2|, l1 + l2]",
         phi,
     )
-    h = branch * ops.sqrt(h2)
-    cx = p1.x + a * dx - h * dy
-    cy = p1.y + a * dy + h * dx
+    h = ops.sqrt(h2)
+    if branch < 0:
+        h = -h
+    ex, ey = a * dx - h * dy, a * dy + h * dx  # p1 -> C
+    cx, cy = p1.x + ex, p1.y + ey
+    fx, fy = cx - p2.x, cy - p2.y  # p2 -> C
     # direction cosines of the links p1 -> C and p2 -> C, and sin(theta2 - theta1)
-    c1, s1 = (cx - p1.x) / l1, (cy - p1.y) / l1
-    c2, s2 = (cx - p2.x) / l2, (cy - p2.y) / l2
+    c1, s1 = ex / l1, ey / l1
+    c2, s2 = fx / l2, fy / l2
     sin21 = s2 * c1 - c2 * s1
+    k1, k2 = l1 * sin21, l2 * sin21
     # l1 w1 e1perp - l2 w2 e2perp = p2' - p1' (rhs); dot with e2 and e1 to separate.
     rx, ry = p2.dx - p1.dx, p2.dy - p1.dy
-    w1 = (rx * c2 + ry * s2) / (l1 * sin21)
-    w2 = (rx * c1 + ry * s1) / (l2 * sin21)
-    rx2 = p2.ddx - p1.ddx + l1 * w1 * w1 * c1 - l2 * w2 * w2 * c2
-    ry2 = p2.ddy - p1.ddy + l1 * w1 * w1 * s1 - l2 * w2 * w2 * s2
-    e1 = (rx2 * c2 + ry2 * s2) / (l1 * sin21)
-    e2 = (rx2 * c1 + ry2 * s1) / (l2 * sin21)
-    _check_toggle("RRR dyad: links in line (toggle position)", phi, w1, w2, e1, e2)
+    w1 = (rx * c2 + ry * s2) / k1
+    w2 = (rx * c1 + ry * s1) / k2
+    v1, v2 = l1 * w1, l2 * w2  # speeds of C about p1 and p2
+    n1, n2 = v1 * w1, v2 * w2  # their centripetal accelerations
+    rx2 = p2.ddx - p1.ddx + n1 * c1 - n2 * c2
+    ry2 = p2.ddy - p1.ddy + n1 * s1 - n2 * s2
+    e1 = (rx2 * c2 + ry2 * s2) / k1
+    e2 = (rx2 * c1 + ry2 * s1) / k2
+    # the second analogs hold the first squared: they are not finite wherever those are not
+    _check_toggle("RRR dyad: links in line (toggle position)", phi, e1, e2)
+    g1 = l1 * e1  # C's tangential acceleration about p1
     c = PointJet(
         cx,
         cy,
-        p1.dx - l1 * w1 * s1,
-        p1.dy + l1 * w1 * c1,
-        p1.ddx - l1 * e1 * s1 - l1 * w1 * w1 * c1,
-        p1.ddy + l1 * e1 * c1 - l1 * w1 * w1 * s1,
+        p1.dx - v1 * s1,
+        p1.dy + v1 * c1,
+        p1.ddx - g1 * s1 - n1 * c1,
+        p1.ddy + g1 * c1 - n1 * s1,
     )
-    t1 = ops.arctan2(cy - p1.y, cx - p1.x)
-    t2 = ops.arctan2(cy - p2.y, cx - p2.x)
+    t1 = ops.arctan2(ey, ex)
+    t2 = ops.arctan2(fy, fx)
     return c, Jet(t1, w1, e1), Jet(t2, w2, e2)
 
 

@@ -167,20 +167,6 @@ def _designs(phi, **params):
     }
 
 
-def _cos_sin(phi):
-    """``cos(phi), sin(phi)``, remembered for the last grid (sweeps and repeated calls reuse
-    one grid; the grid is compared by value, so an edited array is not mistaken for it)."""
-    last = _GRID[0]
-    if last is not None and last[0].shape == phi.shape and np.array_equal(last[0], phi):
-        return last[1], last[2]
-    c, s = np.cos(phi), np.sin(phi)
-    _GRID[0] = (phi.copy(), c, s)
-    return c, s
-
-
-_GRID: list = [None]
-
-
 def _valid_lengths(*lengths) -> bool:
     """True when every entry of the ``(n,)`` arrays is finite and positive: one pass over the
     designs (O(n)); the mechanism class is built (for its exact message) only when not."""
@@ -251,7 +237,7 @@ def four_bar_batch(
     if backend == "numpy":
         _numpy_chunks(model, out)
     else:
-        cphi, sphi = _cos_sin(phi)
+        cphi, sphi = ops.cos_sin(phi)
         a, b, c, d = p["crank"], p["coupler"], p["rocker"], p["ground"]
         _kernel("four_bar", a.size * phi.size)(a, b, c, d, cphi, sphi, sigma, out)
         # |AO2|^2 over the grid lies between its values at the largest and smallest cos(phi);
@@ -297,7 +283,7 @@ def slider_crank_batch(
         _numpy_chunks(model, out)
     else:
         a, b, e = p["crank"], p["rod"], p["offset"]
-        cphi, sphi = _cos_sin(phi)
+        cphi, sphi = ops.cos_sin(phi)
         _kernel("slider_crank", a.size * phi.size)(a, b, e, cphi, sphi, out)
         # rods within round-off of crank + |offset| (near a toggle) go to the numpy model
         _numpy_rows(model, np.flatnonzero(b * b - (a + np.abs(e)) ** 2 <= 1e-9 * b * b), out)

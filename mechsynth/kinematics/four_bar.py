@@ -46,8 +46,7 @@ def four_bar_chain(c, s, crank, coupler, rocker, ground, sigma, phi=None):
     what :meth:`FourBar.jets` evaluates and what the compiled batch kernels are built from.
     """
     a = crank_pin(c, s, crank)
-    zero = 0.0 * a.x
-    o2 = PointJet(ground + zero, zero, zero, zero, zero, zero)
+    o2 = PointJet(ground, 0.0, 0.0, 0.0, 0.0, 0.0)  # the frame pivot (broadcast by the dyad)
     b, cpl, rck = dyad_rrr(a, o2, coupler, rocker, sigma, phi=phi)
     return a, b, cpl, rck
 
@@ -141,7 +140,10 @@ class FourBar(Mechanism):
         a, b, c, d = self.crank, self.coupler, self.rocker, self.ground
         if ops.is_symbolic(a, b, c, d):
             return
-        if not all(type(x) is float for x in (a, b, c, d)):
+        if type(a) is float and type(b) is float and type(c) is float and type(d) is float:
+            if self.full_turn and a + d < b + c and abs(d - a) > abs(b - c):
+                return  # one design whose crank turns fully
+        else:
             validate.broadcast(crank=a, coupler=b, rocker=c, ground=d)
         if self.full_turn:
             fail_where(
@@ -255,10 +257,19 @@ class FourBar(Mechanism):
             omega,
             eps,
         )
-        a, b, coupler, rocker = self.jets(phi)
-        crank_jet = Jet(phi + 0.0 * a.x, 1.0 + 0.0 * a.x, 0.0 * a.x)
-        o1 = PointJet.fixed(0.0 * a.x, 0.0 * a.x)
-        o2 = PointJet.fixed(self.ground + 0.0 * a.x, 0.0 * a.x)
+        a, b, coupler, rocker = four_bar_chain(
+            *ops.cos_sin(phi),
+            self.crank,
+            self.coupler,
+            self.rocker,
+            self.ground,
+            self.sigma,
+            phi,
+        )
+        z = ops.zero_rows(a.x, 14)  # the frame pivots' and the crank's constant tracks
+        crank_jet = Jet(phi + 0.0 * self.crank, 1.0 + z[0], z[1])
+        o1 = PointJet(*z[2:8])
+        o2 = PointJet(self.ground + z[8], *z[9:])
         points = {"O1": o1, "A": a, "B": b, "O2": o2}
         for name, (u, v) in (coupler_points or {}).items():
             points[name] = coupler_point(a, coupler, u, v)

@@ -13,8 +13,10 @@ __all__ = [
     "is_symbolic",
     "is_zero",
     "zeros_like",
+    "zero_rows",
     "sin",
     "cos",
+    "cos_sin",
     "tan",
     "sqrt",
     "arctan2",
@@ -55,6 +57,14 @@ def zeros_like(x):
     return 0.0 * x
 
 
+def zero_rows(x, k: int) -> list:
+    """``k`` zeros of the shape of ``x``: for an array, separate arrays (the rows of one
+    allocation: changing one leaves the others alone), else ``k`` times ``0 * x``."""
+    if type(x) is np.ndarray:
+        return list(np.zeros((k, *x.shape)))
+    return [0.0 * x] * k
+
+
 def _ca():
     import casadi
 
@@ -71,6 +81,26 @@ def cos(x):
     if type(x) in _NUMERIC:
         return np.cos(x)
     return _ca().cos(x) if is_symbolic(x) else np.cos(x)
+
+
+def cos_sin(phi):
+    """``cos(phi), sin(phi)``. For a float array those of the last grid are remembered (a loop
+    over designs or a sweep reuses one grid of crank angles): the grid is compared bit for bit,
+    so an edited array is never mistaken for it. The arrays returned may be shared between
+    calls: callers never change them in place."""
+    if type(phi) is not np.ndarray or phi.dtype != np.float64:
+        return cos(phi), sin(phi)
+    key = phi.tobytes()
+    last = _GRID[0]
+    if last is not None and last[0] == phi.shape and last[1] == key:
+        return last[2], last[3]
+    c, s = np.cos(phi), np.sin(phi)
+    _GRID[0] = (phi.shape, key, c, s)
+    return c, s
+
+
+#: the last grid's shape, bytes, cosines and sines (one tuple: replaced in one step)
+_GRID: list = [None]
 
 
 def tan(x):

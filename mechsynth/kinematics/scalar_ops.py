@@ -47,6 +47,16 @@ def zeros_like(x):
 
 
 @_jit
+def zero_rows(x, k):
+    return [0.0] * k
+
+
+@_jit
+def cos_sin(x):
+    return math.cos(x), math.sin(x)
+
+
+@_jit
 def sin(x):
     return math.sin(x)
 

@@ -79,6 +79,9 @@ class SliderCrank(Mechanism):
         object.__setattr__(self, "rod", check_length("rod", self.rod))
         object.__setattr__(self, "offset", check_finite("offset", self.offset))
         a, b, e = self.crank, self.rod, self.offset
+        if type(a) is float and type(b) is float and type(e) is float:  # one design
+            if b > a + abs(e):
+                return
         if not ops.is_symbolic(a, b, e):
             if type(a) is not float or type(b) is not float or type(e) is not float:
                 validate.broadcast(crank=a, rod=b, offset=e)
@@ -130,12 +133,10 @@ class SliderCrank(Mechanism):
         omega, eps = speed_pair(speed, epsilon)
         phi = as_angles(phi)
         guard_motion({"crank": self.crank, "rod": self.rod, "offset": self.offset}, phi, omega, eps)
-        a, b, s, rod = slider_crank_chain(
-            ops.cos(phi), ops.sin(phi), self.crank, self.rod, self.offset, phi
-        )
-        zero = ops.zeros_like(a.x)
-        crank_jet = Jet(phi + 0.0 * self.crank, 1.0 + zero, ops.zeros_like(a.x))
-        points = {"O": PointJet.fixed(zero, ops.zeros_like(a.x)), "A": a, "B": b}
+        a, b, s, rod = slider_crank_chain(*ops.cos_sin(phi), self.crank, self.rod, self.offset, phi)
+        z = ops.zero_rows(a.x, 8)  # the crank pivot's and the crank's constant tracks
+        crank_jet = Jet(phi + 0.0 * self.crank, 1.0 + z[0], z[1])
+        points = {"O": PointJet(*z[2:]), "A": a, "B": b}
         for name, (u, v) in (coupler_points or {}).items():
             points[name] = coupler_point(a, rod, u, v)
         # the rod's angle from the guide is within (-pi/2, pi/2) (B ahead of A): its size is
