@@ -236,9 +236,11 @@ def _chart_run(args) -> int:
     options = _declared_options(f"chart {args.name!r}", chart.options, args.set)
     if options is None:
         return 0
-    if not getattr(args, "dask", None):
-        return _print_result(chart(args.out, options), args)
     from .synthesis.charts import sweep_executor
+
+    if not getattr(args, "dask", None):
+        with sweep_executor("auto"):  # big sweeps on the numpy model: one process per core
+            return _print_result(chart(args.out, options), args)
 
     with _dask_client(args.dask) as client, sweep_executor(client.get_executor()):
         result = chart(args.out, options)

@@ -53,3 +53,37 @@ def test_cli_dask_needs_a_reachable_scheduler(capsys):
                  "tcp://127.0.0.1:9"])  # fmt: skip
     assert code == 1
     assert "cannot reach the Dask scheduler" in capsys.readouterr().err
+
+
+def _six_link_sweep(executor):
+    from mechsynth import objectives as ob
+    from mechsynth.machines.impact import six_link
+    from mechsynth.synthesis.charts import sweep
+
+    grid = {"DB": np.linspace(0.01, 0.05, 7), "KN": np.linspace(0.005, 0.11, 6)}
+    measures = {"stroke": ob.stroke("N"), "pressure": ob.max_pressure_angle("N")}
+    return sweep(six_link(), grid, measures, angles=72, progress=False, chunk=5,
+                 executor=executor)  # fmt: skip
+
+
+def test_a_linkage_sweep_on_a_pool_of_processes_gives_the_local_chart(monkeypatch):
+    """``executor="processes"`` (spawned interpreters, one per core) and ``"auto"`` above its
+    size threshold give exactly the chart of this process; ``"auto"`` below it, and for the
+    compiled kernels, stays in this process."""
+    import mechsynth.synthesis.charts as charts
+
+    local = _six_link_sweep("local")
+    assert 0 < local.feasible.sum() < local.size  # short rockers do not assemble
+    _identical(_six_link_sweep("processes"), local)
+    started = []
+    real = charts._process_pool
+    monkeypatch.setattr(charts, "_process_pool", lambda n: started.append(n) or real(n))
+    _identical(_six_link_sweep("auto"), local)  # 42 designs x 72 angles: too small
+    assert started == []
+    monkeypatch.setattr(charts, "POOL_MIN_EVALUATIONS", 1000)
+    _identical(_six_link_sweep("auto"), local)
+    assert started == [min(charts.cores(), 9)]
+    _identical(_chart(executor="auto"), _chart())  # compiled kernels: this process
+    assert len(started) == 1
+    with pytest.raises(ValueError, match="executor must be"):
+        _six_link_sweep("threads")

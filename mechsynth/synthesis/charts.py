@@ -634,6 +634,7 @@ def _remote_block(payload: bytes, c: int) -> _BlockResult | None:
     key = hashlib.sha256(payload).hexdigest()
     spec = _SPECS.get(key)
     if spec is None:
+        _keep_freed_memory()  # the worker's malloc, as the sweep's own process
         _SPECS.clear()
         spec = _SPECS[key] = pickle.loads(payload)
     return _sweep_block(spec, c)
@@ -641,11 +642,66 @@ def _remote_block(payload: bytes, c: int) -> _BlockResult | None:
 
 _EXECUTOR: contextvars.ContextVar = contextvars.ContextVar("sweep_executor", default=None)
 
+#: design-angle evaluations on the numpy model (no compiled kernels) above which
+#: ``executor="auto"`` evaluates the chunks in a pool of processes (measured on 2 cores: a
+#: six-link chart of 2e7 evaluations takes 27 s in one process; starting two workers costs
+#: about 2 s)
+POOL_MIN_EVALUATIONS = 2e7
+
+
+def cores() -> int:
+    """Cores this process may run on."""
+    import os
+
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
+def _on_kernels(spec) -> bool:
+    """Whether the sweep's motion runs on the compiled batch kernels (threads of their own)."""
+    from ..kinematics.compiled import numba_available
+    from ..kinematics.four_bar import FourBar
+    from ..kinematics.slider_crank import SliderCrank
+
+    return spec.kernels and spec.mechanism in (SliderCrank, FourBar) and numba_available()
+
+
+def _pool_size(executor, spec, total, n_chunks) -> int:
+    """Worker processes for ``executor="processes"`` or ``"auto"`` (0: this process)."""
+    n = min(cores(), n_chunks)
+    if executor == "processes":
+        return max(n, 1)
+    if _on_kernels(spec) or n < 2 or total * spec.phi.size < POOL_MIN_EVALUATIONS:
+        return 0
+    return n
+
+
+def _process_pool(n):
+    """A pool of ``n`` fresh interpreters (spawned: no threads or locks inherited from this
+    process; a script that sweeps must guard its main code with ``if __name__ ==
+    "__main__":``, as for any process pool)."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    return ProcessPoolExecutor(
+        max_workers=n, mp_context=multiprocessing.get_context("spawn"), initializer=_ignore_sigint
+    )
+
+
+def _ignore_sigint():
+    """In a pool's worker: Ctrl-C is the parent's to handle (it cancels the pending chunks)."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
 
 @contextlib.contextmanager
 def sweep_executor(executor):
-    """Within the block, sweeps that are not given an ``executor`` use this one (the command
-    line's ``--dask`` runs the charts built on :func:`sweep` this way)."""
+    """Within the block, sweeps that are not given an ``executor`` use this one: an Executor or
+    one of :func:`sweep`'s names (the command line runs its charts in ``"auto"``, or with
+    ``--dask`` on the cluster's executor)."""
     token = _EXECUTOR.set(executor)
     try:
         yield executor
@@ -722,8 +778,14 @@ def sweep(
         ``ProcessPoolExecutor()``, or ``dask.distributed.Client(address).get_executor()`` for
         a cluster); each task evaluates one chunk where it runs and returns only the chunk's
         measures, feasibility and parameters. The sweep's functions travel by pickle (by
-        cloudpickle when plain pickle cannot take them, e.g. local functions). None (default):
-        this process, on ``workers`` threads.
+        cloudpickle when plain pickle cannot take them, e.g. local functions). ``"processes"``:
+        a pool of fresh processes, one per core, for this sweep (a script must guard its main
+        code with ``if __name__ == "__main__":``). ``"auto"``: that pool when the motion runs
+        on the numpy model (a Linkage, or ``kernels=False``) and the sweep has more than
+        :data:`POOL_MIN_EVALUATIONS` design-angle evaluations, else this process (the compiled
+        kernels already use every core); the command line's charts run this way. None
+        (default): the executor of an enclosing :func:`sweep_executor` block, else this
+        process on ``workers`` threads (``"local"`` likewise).
 
     Returns
     -------
@@ -801,6 +863,14 @@ def sweep(
         raise MechanismError(f"workers must be >= 1, got {workers}")
     if executor is None:
         executor = _EXECUTOR.get()
+    pool = None
+    if isinstance(executor, str):
+        if executor not in ("auto", "processes", "local"):
+            raise UsageError(
+                f"executor must be an Executor, 'auto', 'processes' or 'local', got {executor!r}"
+            )
+        size = 0 if executor == "local" else _pool_size(executor, spec, total, n_chunks)
+        executor = pool = _process_pool(size) if size else None
     if executor is not None:
         # any concurrent.futures.Executor (a process pool, a Dask cluster's executor): each
         # task evaluates one block and sends back only its reduced measures
@@ -812,8 +882,8 @@ def sweep(
         # numpy releases the GIL in its array loops: chunks run in parallel threads
         from concurrent.futures import ThreadPoolExecutor
 
-        pool = ThreadPoolExecutor(max_workers=workers)
-        results = pool.map(_sweep_block, [spec] * n_chunks, range(n_chunks))
+        threads = ThreadPoolExecutor(max_workers=workers)
+        results = threads.map(_sweep_block, [spec] * n_chunks, range(n_chunks))
     try:
         for res in results:
             if res is not None:
@@ -827,8 +897,10 @@ def sweep(
                     reason = res.reason
             bar.update()
     finally:
-        if executor is None and workers > 1:
-            pool.shutdown()
+        if pool is not None:
+            pool.shutdown(wait=True, cancel_futures=True)
+        elif executor is None and workers > 1:
+            threads.shutdown()
     bar.close()
     if not ok_all.any():
         raise MechanismError(f"no feasible design on the grid ({total} designs): {reason}")
