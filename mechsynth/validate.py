@@ -223,6 +223,10 @@ def angles(value, name: str = "crank angles"):
             raise MechanismError(f"{name} must be finite (rad), got {value!r}")
         return value
     if type(value) is np.ndarray and value.dtype == np.float64:
+        # a finite sum proves every angle finite (one pass); only its failure (a bad angle,
+        # or a sum past 1e308) takes the exact test
+        if math.isfinite(np.add.reduce(value, axis=None)):
+            return value
         if not np.isfinite(value).all():
             finite = np.isfinite(value)
             idx = np.unravel_index(int(np.argmin(finite)), value.shape)

@@ -185,6 +185,16 @@ def coupler_point(base: PointJet, angle: Jet, u, v) -> PointJet:
     )
 
 
+def _minus(a, b):
+    """``a - b``, or ``-b`` when ``a`` is the number 0 (a frame pivot's coordinate or analog)."""
+    return -b if ops.is_zero(a) else a - b
+
+
+def _shifted(x, c):
+    """``x - c``, or ``x`` itself when ``c`` is the number 0 (for the blocks' own use only)."""
+    return x if ops.is_zero(c) else x - c
+
+
 @_toggles_raise
 def dyad_rrr(p1: PointJet, p2: PointJet, l1, l2, branch=1, phi=None):
     """RRR dyad: joint C at distance ``l1`` from ``p1`` and ``l2`` from ``p2``.
@@ -197,7 +207,7 @@ def dyad_rrr(p1: PointJet, p2: PointJet, l1, l2, branch=1, phi=None):
     theta1 : Jet of the angle of link p1 -> C.
     theta2 : Jet of the angle of link p2 -> C.
     """
-    dx, dy = p2.x - p1.x, p2.y - p1.y
+    dx, dy = _minus(p2.x, p1.x), _minus(p2.y, p1.y)
     d2 = dx * dx + dy * dy
     a = (l1 * l1 - l2 * l2 + d2) / (2.0 * d2)  # fraction of p1->p2 to the foot of C
     q = l1 * l1 / d2
@@ -212,32 +222,30 @@ def dyad_rrr(p1: PointJet, p2: PointJet, l1, l2, branch=1, phi=None):
         h = -h
     ex, ey = a * dx - h * dy, a * dy + h * dx  # p1 -> C
     cx, cy = p1.x + ex, p1.y + ey
-    fx, fy = cx - p2.x, cy - p2.y  # p2 -> C
-    # direction cosines of the links p1 -> C and p2 -> C, and sin(theta2 - theta1)
-    c1, s1 = ex / l1, ey / l1
-    c2, s2 = fx / l2, fy / l2
-    sin21 = s2 * c1 - c2 * s1
-    k1, k2 = l1 * sin21, l2 * sin21
-    # l1 w1 e1perp - l2 w2 e2perp = p2' - p1' (rhs); dot with e2 and e1 to separate.
-    rx, ry = p2.dx - p1.dx, p2.dy - p1.dy
-    w1 = (rx * c2 + ry * s2) / k1
-    w2 = (rx * c1 + ry * s1) / k2
-    v1, v2 = l1 * w1, l2 * w2  # speeds of C about p1 and p2
-    n1, n2 = v1 * w1, v2 * w2  # their centripetal accelerations
-    rx2 = p2.ddx - p1.ddx + n1 * c1 - n2 * c2
-    ry2 = p2.ddy - p1.ddy + n1 * s1 - n2 * s2
-    e1 = (rx2 * c2 + ry2 * s2) / k1
-    e2 = (rx2 * c1 + ry2 * s1) / k2
+    fx, fy = _shifted(cx, p2.x), _shifted(cy, p2.y)  # p2 -> C
+    # The links turn C about p1 and p2: w1 J e - w2 J f = p2' - p1' = r (J a quarter turn);
+    # dotted with f and e, with the cross product cr = e x f = l1 l2 sin(theta2 - theta1):
+    # w1 = r . f / cr, w2 = r . e / cr. The second order is the same system with
+    # r2 = p2'' - p1'' + w1^2 e - w2^2 f.
+    cr = ex * fy - ey * fx
+    rx, ry = _minus(p2.dx, p1.dx), _minus(p2.dy, p1.dy)
+    w1 = (rx * fx + ry * fy) / cr
+    w2 = (rx * ex + ry * ey) / cr
+    q1, q2 = w1 * w1, w2 * w2
+    m1x, m1y = q1 * ex, q1 * ey  # C's centripetal acceleration about p1, negated
+    rx2 = _minus(p2.ddx, p1.ddx) + m1x - q2 * fx
+    ry2 = _minus(p2.ddy, p1.ddy) + m1y - q2 * fy
+    e1 = (rx2 * fx + ry2 * fy) / cr
+    e2 = (rx2 * ex + ry2 * ey) / cr
     # the second analogs hold the first squared: they are not finite wherever those are not
     _check_toggle("RRR dyad: links in line (toggle position)", phi, e1, e2)
-    g1 = l1 * e1  # C's tangential acceleration about p1
     c = PointJet(
         cx,
         cy,
-        p1.dx - v1 * s1,
-        p1.dy + v1 * c1,
-        p1.ddx - g1 * s1 - n1 * c1,
-        p1.ddy + g1 * c1 - n1 * s1,
+        p1.dx - w1 * ey,
+        p1.dy + w1 * ex,
+        p1.ddx - e1 * ey - m1x,
+        p1.ddy + e1 * ex - m1y,
     )
     t1 = ops.arctan2(ey, ex)
     t2 = ops.arctan2(fy, fx)
@@ -290,7 +298,7 @@ def dyad_rrp(p: PointJet, length, guide_x=0.0, guide_y=0.0, guide_angle=0.0, bra
     :func:`_rrp_slide`), so its angle's analogs are ``a' = -h1 / w`` and
     ``a'' = -(h2 + hgt a'^2) / w``, and the fixed guide adds nothing to them.
     """
-    rx, ry = p.x - guide_x, p.y - guide_y
+    rx, ry = _shifted(p.x, guide_x), _shifted(p.y, guide_y)
     along_x = ops.is_zero(guide_angle)  # a guide along +x: its frame is the plane's
     if along_x:
         ux, uy = 1.0, 0.0

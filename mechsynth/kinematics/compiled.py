@@ -407,6 +407,8 @@ def _kernels():
     model = [
         getattr(f, "__wrapped__", f)
         for f in (
+            blocks._minus,
+            blocks._shifted,
             blocks.link_angle,
             blocks.crank_pin,
             blocks.dyad_rrr,
@@ -581,8 +583,9 @@ def batch_motion(mechanism, phi, speed=None, workspace: BatchWorkspace | None = 
             speed=speed, out=out,
         )  # fmt: skip
         np.subtract(res.coupler_angle, res.rocker_angle, out=extra[1])
-        np.cos(extra[1], out=extra[1])
-        np.arccos(extra[1], out=extra[1])  # transmission angle in [0, pi]
+        np.abs(extra[1], out=extra[1])
+        np.subtract(2.0 * np.pi, extra[1], out=extra[0])
+        np.minimum(extra[1], extra[0], out=extra[1])  # transmission angle in [0, pi]
         np.subtract(np.pi / 2, extra[1], out=extra[0])
         np.abs(extra[0], out=extra[0])
         links = {

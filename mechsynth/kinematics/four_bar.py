@@ -273,8 +273,11 @@ class FourBar(Mechanism):
         points = {"O1": o1, "A": a, "B": b, "O2": o2}
         for name, (u, v) in (coupler_points or {}).items():
             points[name] = coupler_point(a, coupler, u, v)
-        mu = ops.arccos(ops.cos(coupler.value - rocker.value))
-        return Motion(
+        # the angle between coupler and rocker, in [0, pi]: arccos(cos(difference)) without
+        # its two transcendental passes (and exact where that loses digits, near 0 and pi)
+        turn = ops.fabs(coupler.value - rocker.value)  # in [0, 2 pi)
+        mu = ops.fmin(turn, 2.0 * np.pi - turn)
+        return Motion.of(
             phi=phi,
             omega=omega,
             epsilon=eps,
@@ -285,6 +288,7 @@ class FourBar(Mechanism):
                 "rocker": LinkTrack.from_jet(rocker, omega, eps),
             },
             pressure_angle=ops.fabs(np.pi / 2 - mu),
+            sliders={},
             transmission_angle=mu,
         )
 

@@ -142,7 +142,7 @@ class SliderCrank(Mechanism):
         # the rod's angle from the guide is within (-pi/2, pi/2) (B ahead of A): its size is
         # the pressure angle, arcsin(|offset - y_A| / rod)
         pressure = ops.fabs(rod.value)
-        return Motion(
+        return Motion.of(
             phi=phi,
             omega=omega,
             epsilon=eps,

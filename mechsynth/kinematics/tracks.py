@@ -59,6 +59,28 @@ def to_time(jet: Jet, omega, epsilon):
     return jet.value, jet.d1 * omega, jet.d2 * omega**2 + jet.d1 * epsilon
 
 
+_new = object.__new__
+
+
+def _point_track(x, y, vx, vy, ax, ay):
+    """``PointTrack(x, y, vx, vy, ax, ay)`` without the frozen dataclass's ``__init__``, which
+    sets each field through its own ``object.__setattr__`` call (a motion builds a track per
+    point: for one design that overhead is a good part of the call)."""
+    t = _new(PointTrack)
+    d = t.__dict__
+    d["x"], d["y"], d["vx"], d["vy"], d["ax"], d["ay"] = x, y, vx, vy, ax, ay
+    return t
+
+
+def _scalar_track(cls, a, b, c):
+    """``cls(a, b, c)`` for :class:`LinkTrack` and :class:`SliderTrack`, as :func:`_point_track`."""
+    t = _new(cls)
+    d = t.__dict__
+    for name, value in zip(cls._fields, (a, b, c)):
+        d[name] = value
+    return t
+
+
 @dataclass(frozen=True)
 class PointTrack:
     """Track of a point over the cycle: position (m), velocity (m/s), acceleration (m/s^2).
@@ -93,7 +115,7 @@ class PointTrack:
     def from_jet(cls, p: PointJet, omega, epsilon) -> PointTrack:
         if type(epsilon) is float and epsilon == 0.0 and type(omega) is float:
             if omega == 1.0:  # the analogs themselves
-                return cls(*p)
+                return _point_track(*p)
             w2 = omega * omega
             return cls(p.x, p.y, p.dx * omega, p.dy * omega, p.ddx * w2, p.ddy * w2)
         return cls(
@@ -115,9 +137,11 @@ class LinkTrack:
     omega: Any
     epsilon: Any
 
+    _fields: ClassVar[tuple[str, ...]] = ("angle", "omega", "epsilon")
+
     @classmethod
     def from_jet(cls, j: Jet, omega, epsilon) -> LinkTrack:
-        return cls(*to_time(j, omega, epsilon))
+        return _scalar_track(cls, *to_time(j, omega, epsilon))
 
 
 @dataclass(frozen=True)
@@ -128,9 +152,11 @@ class SliderTrack:
     velocity: Any
     acceleration: Any
 
+    _fields: ClassVar[tuple[str, ...]] = ("position", "velocity", "acceleration")
+
     @classmethod
     def from_jet(cls, j: Jet, omega, epsilon) -> SliderTrack:
-        return cls(*to_time(j, omega, epsilon))
+        return _scalar_track(cls, *to_time(j, omega, epsilon))
 
 
 @dataclass(frozen=True)
@@ -164,6 +190,29 @@ class Motion:
     extra: dict[str, Any] = field(default_factory=dict)
     pressure_angles: dict[str, Any] = field(default_factory=dict)
     transmission_angles: dict[str, Any] = field(default_factory=dict)
+
+    @classmethod
+    def of(
+        cls, phi, omega, epsilon, points, links, pressure_angle, sliders, transmission_angle
+    ) -> Motion:
+        """The motion with these fields and empty ``extra``, ``pressure_angles`` and
+        ``transmission_angles``, built without the frozen dataclass's ``__init__`` (as
+        :func:`_point_track`): the named mechanisms' motions end here."""
+        m = _new(cls)
+        m.__dict__.update(
+            phi=phi,
+            omega=omega,
+            epsilon=epsilon,
+            points=points,
+            links=links,
+            pressure_angle=pressure_angle,
+            sliders=sliders,
+            transmission_angle=transmission_angle,
+            extra={},
+            pressure_angles={},
+            transmission_angles={},
+        )
+        return m
 
     @property
     def slider(self) -> SliderTrack:

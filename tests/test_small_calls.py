@@ -1,0 +1,91 @@
+"""The fast paths of one design's motion: they give what the general code gives."""
+
+from __future__ import annotations
+
+import dataclasses
+import warnings
+
+import numpy as np
+import pytest
+
+import mechsynth as ms
+from mechsynth.errors import MechanismError
+from mechsynth.kinematics import ops
+from mechsynth.kinematics.tracks import Jet, LinkTrack, Motion, PointJet, PointTrack, SliderTrack
+
+
+def _arrays(m):
+    out = [x for p in m.points.values() for x in vars(p).values()]
+    out += [x for k in m.links.values() for x in vars(k).values()]
+    out += [x for s in m.sliders.values() for x in vars(s).values()]
+    return [*out, m.pressure_angle, m.transmission_angle]
+
+
+def test_quick_constructors_fill_every_field():
+    """``from_jet`` and ``Motion.of`` skip the frozen dataclasses' ``__init__``; the objects they
+    build hold exactly the fields the ``__init__`` would set, and stay frozen."""
+    x = np.linspace(0.0, 1.0, 5)
+    p = PointTrack.from_jet(PointJet(x, x + 1, x + 2, x + 3, x + 4, x + 5), 1.0, 0.0)
+    assert list(vars(p)) == [f.name for f in dataclasses.fields(PointTrack)]
+    assert all(np.array_equal(v, x + k) for k, v in enumerate(vars(p).values()))
+    for cls in (LinkTrack, SliderTrack):
+        t = cls.from_jet(Jet(x, x + 1, x + 2), 1.0, 0.0)
+        assert list(vars(t)) == [f.name for f in dataclasses.fields(cls)]
+        with pytest.raises(dataclasses.FrozenInstanceError):
+            t.omega = x
+    m = ms.FourBar(1.0, 4.3, 3.0, 5.2).motion(ms.cycle(8))
+    assert list(vars(m)) == [f.name for f in dataclasses.fields(Motion)]
+    assert m.extra == {} and m.pressure_angles == {} and m.transmission_angles == {}
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        m.phi = None
+
+
+@pytest.mark.parametrize(
+    "mech", [ms.FourBar(1.0, 4.3, 3.0, 5.2), ms.SliderCrank(0.07, 0.24, 0.01)], ids=str
+)
+def test_motion_outputs_are_separate_arrays(mech):
+    """No two outputs of a motion share memory: changing one in place leaves the others."""
+    arrays = _arrays(mech.motion(ms.cycle(36)))
+    for i, a in enumerate(arrays):
+        assert a.shape == (36,)
+        assert not any(np.shares_memory(a, b) for b in arrays[i + 1 :]), i
+
+
+def test_remembered_cosines_follow_the_grid():
+    phi = ms.cycle(16)
+    c, s = ops.cos_sin(phi)
+    np.testing.assert_array_equal(c, np.cos(phi))
+    np.testing.assert_array_equal(s, np.sin(phi))
+    phi[3] += 0.5  # edited in place: not mistaken for the grid remembered
+    c, s = ops.cos_sin(phi)
+    assert c[3] == np.cos(phi[3]) and s[3] == np.sin(phi[3])
+    # the motion sees the edit too
+    m = ms.SliderCrank(0.07, 0.24).motion(phi)
+    assert m.points["A"].x[3] == pytest.approx(0.07 * np.cos(phi[3]), abs=1e-15)
+
+
+def test_angle_checks_of_the_quick_path():
+    """The finite test by a sum: huge finite angles pass (without a warning), NaN and inf do
+    not."""
+    sc = ms.SliderCrank(0.07, 0.24)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert sc.motion(np.array([1e300, 1e300, 0.5])).slider.position.shape == (3,)
+    for bad in (np.nan, np.inf):
+        with pytest.raises(MechanismError, match="crank angles must be finite"):
+            sc.motion(np.array([0.1, bad]))
+
+
+def test_transmission_angle_is_the_angle_between_the_links():
+    fb = ms.FourBar(1.0, 4.3, 3.0, 5.2)
+    m = fb.motion(ms.cycle(360))
+    t1, t2 = m.links["coupler"].angle, m.links["rocker"].angle
+    mu = m.transmission_angle
+    np.testing.assert_allclose(mu, np.arccos(np.cos(t1 - t2)), atol=1e-12)
+    # directly from the link vectors A -> B and O2 -> B
+    a, b = m.points["A"], m.points["B"]
+    u = np.stack([b.x - a.x, b.y - a.y])
+    v = np.stack([b.x - fb.ground, b.y])
+    cos = np.sum(u * v, axis=0) / (fb.coupler * fb.rocker)
+    np.testing.assert_allclose(np.cos(mu), cos, atol=1e-12)
+    np.testing.assert_allclose(m.pressure_angle, np.abs(np.pi / 2 - mu), atol=0)
