@@ -100,6 +100,28 @@ def _check_nonnegative(value, scale, what, phi=None):
     return np.maximum(value, 0.0)
 
 
+def _root(value, scale, what, phi):
+    """``sqrt(value)`` of a dyad's assembly condition ``value >= 0``. Given the crank angles
+    ``phi`` (numeric), a negative ``value`` is left to give NaN here: the dyad's last test,
+    :func:`_failed`, finds it in the analogs and :func:`_check_nonnegative` then names it (one
+    pass over the analogs serves both checks). Without ``phi``, checked here."""
+    if phi is None:
+        return ops.sqrt(_check_nonnegative(value, scale, what, phi))
+    return ops.sqrt(value)
+
+
+def _failed(phi, *analogs):
+    """True where a dyad's checks must look closer: an analog not finite (a toggle position,
+    or NaN from a dyad that cannot be assembled), for numeric input with the crank angles
+    given. One pass: the sum of the analogs is finite when they all are."""
+    if phi is None or ops.is_symbolic(phi, *analogs):
+        return False
+    total = 0.0
+    for x in analogs:
+        total += np.add.reduce(x, axis=None)
+    return not math.isfinite(total)
+
+
 def _check_toggle(what, phi, *analogs):
     """Raise MechanismError where an analog is not finite: the dyad is at a toggle position (its
     links in line), where the velocity analogs are infinite or 0/0. Checked only for numeric
@@ -151,7 +173,7 @@ def crank_pin(c, s, length, x0=0.0, y0=0.0) -> PointJet:
     for all designs.
     """
     x, y = length * c, length * s
-    return PointJet(x0 + x, y0 + y, -y, x, -x, -y)
+    return PointJet(ops.plus(x0, x), ops.plus(y0, y), -y, x, -x, -y)
 
 
 def link_angle(p: PointJet, q: PointJet) -> Jet:
@@ -195,6 +217,10 @@ def _shifted(x, c):
     return x if ops.is_zero(c) else x - c
 
 
+_RRR_APART = "RRR dyad: distance between its pivots outside [|l1 - l2|, l1 + l2]"
+_RRP_FAR = "RRP dyad: the point is farther from the guide than the link length"
+
+
 @_toggles_raise
 def dyad_rrr(p1: PointJet, p2: PointJet, l1, l2, branch=1, phi=None):
     """RRR dyad: joint C at distance ``l1`` from ``p1`` and ``l2`` from ``p2``.
@@ -211,13 +237,8 @@ def dyad_rrr(p1: PointJet, p2: PointJet, l1, l2, branch=1, phi=None):
     d2 = dx * dx + dy * dy
     a = (l1 * l1 - l2 * l2 + d2) / (2.0 * d2)  # fraction of p1->p2 to the foot of C
     q = l1 * l1 / d2
-    h2 = _check_nonnegative(
-        q - a * a,  # (height of C above the line / d)^2
-        q,
-        "RRR dyad: distance between its pivots outside [|l1 - l2|, l1 + l2]",
-        phi,
-    )
-    h = ops.sqrt(h2)
+    h2 = q - a * a  # (height of C above the line / d)^2
+    h = _root(h2, q, _RRR_APART, phi)
     if branch < 0:
         h = -h
     ex, ey = a * dx - h * dy, a * dy + h * dx  # p1 -> C
@@ -238,7 +259,9 @@ def dyad_rrr(p1: PointJet, p2: PointJet, l1, l2, branch=1, phi=None):
     e1 = (rx2 * fx + ry2 * fy) / cr
     e2 = (rx2 * ex + ry2 * ey) / cr
     # the second analogs hold the first squared: they are not finite wherever those are not
-    _check_toggle("RRR dyad: links in line (toggle position)", phi, e1, e2)
+    if _failed(phi, e1, e2):
+        _check_nonnegative(h2, q, _RRR_APART, phi)
+        _check_toggle("RRR dyad: links in line (toggle position)", phi, e1, e2)
     c = PointJet(
         cx,
         cy,
@@ -261,20 +284,18 @@ def _rrp_slide(t, hgt, t1, h1, t2, h2, length, branch, phi):
     ``w w' = -hgt h1`` and its derivative, ``w' = -hgt h1 / w`` and
     ``w'' = -(h1^2 + hgt h2 + w'^2) / w``. Returns the slider's jet, ``w`` and ``-w``.
     """
-    w2 = _check_nonnegative(
-        length * length - hgt * hgt,
-        length * length,
-        "RRP dyad: the point is farther from the guide than the link length",
-        phi,
-    )
-    w = ops.sqrt(w2)
+    ll = length * length
+    w2 = ll - hgt * hgt
+    w = _root(w2, ll, _RRP_FAR, phi)
     if branch < 0:
         w = -w
     nw = -w
     w_1 = hgt * h1 / nw
     w_2 = (h1 * h1 + hgt * h2 + w_1 * w_1) / nw
     # w'' holds w'^2: it is not finite wherever w' is not, so it alone is checked
-    _check_toggle("RRP dyad: link perpendicular to the guide (toggle position)", phi, w_2)
+    if _failed(phi, w_2):
+        _check_nonnegative(w2, ll, _RRP_FAR, phi)
+        _check_toggle("RRP dyad: link perpendicular to the guide (toggle position)", phi, w_2)
     return Jet(t + w, t1 + w_1, t2 + w_2), w, nw
 
 
@@ -310,12 +331,12 @@ def dyad_rrp(p: PointJet, length, guide_x=0.0, guide_y=0.0, guide_angle=0.0, bra
         t2, h2 = p.ddx * ux + p.ddy * uy, p.ddy * ux - p.ddx * uy
     s, w, nw = _rrp_slide(t, hgt, t1, h1, t2, h2, length, branch, phi)
     if along_x:
-        b = PointJet(
-            guide_x + s.value,
-            guide_y + ops.zeros_like(s.value),
-            s.d1 * 1.0,  # copies: B's track and the slider's are separate arrays
+        b = PointJet(  # copies: B's track and the slider's are separate arrays
+            ops.plus(guide_x, s.value),
+            ops.plus(guide_y, ops.zeros_like(s.value)),
+            ops.plus(0.0, s.d1),
             ops.zeros_like(s.d1),
-            s.d2 * 1.0,
+            ops.plus(0.0, s.d2),
             ops.zeros_like(s.d2),
         )
         angle = ops.arctan2(-hgt, w)

@@ -402,6 +402,7 @@ def _kernels():
         "ops": scalar_ops,
         "_check_nonnegative": scalar_ops.check_nonnegative,
         "_check_toggle": scalar_ops.check_toggle,
+        "_failed": scalar_ops.failed,
     }
     # the blocks' own functions (the dyads without their numpy warning guard)
     model = [
@@ -409,6 +410,7 @@ def _kernels():
         for f in (
             blocks._minus,
             blocks._shifted,
+            blocks._root,
             blocks.link_angle,
             blocks.crank_pin,
             blocks.dyad_rrr,

@@ -30,7 +30,7 @@ from .mechanism import (
     guard_motion,
     speed_pair,
 )
-from .tracks import Jet, LinkTrack, Motion, PointJet, PointTrack
+from .tracks import Jet, Motion, PointJet
 
 __all__ = ["FourBar", "Grashof", "grashof", "four_bar_chain"]
 
@@ -246,17 +246,12 @@ class FourBar(Mechanism):
         """
         omega, eps = speed_pair(speed, epsilon)
         phi = as_angles(phi)
-        guard_motion(
-            {
-                "crank": self.crank,
-                "coupler": self.coupler,
-                "rocker": self.rocker,
-                "ground": self.ground,
-            },
-            phi,
-            omega,
-            eps,
-        )
+        l1, l2, l3, l0 = self.crank, self.coupler, self.rocker, self.ground
+        if not (  # one design at one speed: nothing to broadcast
+            type(l1) is float and type(l2) is float and type(l3) is float and type(l0) is float
+            and type(omega) is float and type(eps) is float
+        ):  # fmt: skip
+            guard_motion({"crank": l1, "coupler": l2, "rocker": l3, "ground": l0}, phi, omega, eps)
         a, b, coupler, rocker = four_bar_chain(
             *ops.cos_sin(phi),
             self.crank,
@@ -267,7 +262,7 @@ class FourBar(Mechanism):
             phi,
         )
         z = ops.zero_rows(a.x, 14)  # the frame pivots' and the crank's constant tracks
-        crank_jet = Jet(phi + 0.0 * self.crank, 1.0 + z[0], z[1])
+        crank_jet = Jet(ops.plus(0.0 * self.crank, phi), 1.0 + z[0], z[1])
         o1 = PointJet(*z[2:8])
         o2 = PointJet(self.ground + z[8], *z[9:])
         points = {"O1": o1, "A": a, "B": b, "O2": o2}
@@ -277,19 +272,15 @@ class FourBar(Mechanism):
         # its two transcendental passes (and exact where that loses digits, near 0 and pi)
         turn = ops.fabs(coupler.value - rocker.value)  # in [0, 2 pi)
         mu = ops.fmin(turn, 2.0 * np.pi - turn)
-        return Motion.of(
-            phi=phi,
-            omega=omega,
-            epsilon=eps,
-            points={k: PointTrack.from_jet(p, omega, eps) for k, p in points.items()},
-            links={
-                "crank": LinkTrack.from_jet(crank_jet, omega, eps),
-                "coupler": LinkTrack.from_jet(coupler, omega, eps),
-                "rocker": LinkTrack.from_jet(rocker, omega, eps),
-            },
-            pressure_angle=ops.fabs(np.pi / 2 - mu),
-            sliders={},
-            transmission_angle=mu,
+        return Motion.from_jets(
+            phi,
+            omega,
+            eps,
+            points,
+            {"crank": crank_jet, "coupler": coupler, "rocker": rocker},
+            {},
+            ops.fabs(np.pi / 2 - mu),
+            mu,
         )
 
     def sketch(self, phi, coupler_points=None):

@@ -9,6 +9,7 @@ optimizer). Numeric parameters are validated on construction; symbolic ones are 
 from __future__ import annotations
 
 import dataclasses
+import math
 from typing import Any, ClassVar
 
 import numpy as np
@@ -75,6 +76,9 @@ def check_length(name: str, value):
 def as_angles(phi):
     """Crank angles as a float array (or number, or CasADi expression): any array-like works,
     a list, a tuple, a ``range``. NaN and infinite angles are refused (MechanismError)."""
+    if type(phi) is np.ndarray and phi.dtype == np.float64:
+        if math.isfinite(np.add.reduce(phi, axis=None)):  # every angle finite
+            return phi
     if ops.is_symbolic(phi):
         return phi
     return validate.angles(phi)

@@ -14,6 +14,7 @@ __all__ = [
     "is_zero",
     "zeros_like",
     "zero_rows",
+    "plus",
     "sin",
     "cos",
     "cos_sin",
@@ -55,6 +56,14 @@ def zeros_like(x):
     if type(x) is np.ndarray:
         return np.zeros(x.shape)
     return 0.0 * x
+
+
+def plus(c, x):
+    """``c + x`` as a new array: a copy of ``x`` when ``c`` is the number 0 (cheaper than the
+    addition, and never ``x`` itself, which another output may hold)."""
+    if type(x) is np.ndarray and is_zero(c):
+        return x.copy()
+    return c + x
 
 
 def zero_rows(x, k: int) -> list:

@@ -47,6 +47,11 @@ def zeros_like(x):
 
 
 @_jit
+def plus(c, x):
+    return c + x
+
+
+@_jit
 def zero_rows(x, k):
     return [0.0] * k
 
@@ -136,6 +141,11 @@ def arctan2(y, x):
 @_jit
 def check_nonnegative(value, scale, what, phi=None):
     return 0.0 if value < 0.0 else value
+
+
+@_jit
+def failed(phi, a1, a2=0.0):
+    return False
 
 
 @_jit

@@ -27,7 +27,7 @@ from .mechanism import (
     guard_motion,
     speed_pair,
 )
-from .tracks import Jet, LinkTrack, Motion, PointJet, PointTrack, SliderTrack
+from .tracks import Jet, Motion, PointJet
 
 __all__ = ["SliderCrank", "slider_crank_chain"]
 
@@ -132,28 +132,30 @@ class SliderCrank(Mechanism):
         """
         omega, eps = speed_pair(speed, epsilon)
         phi = as_angles(phi)
-        guard_motion({"crank": self.crank, "rod": self.rod, "offset": self.offset}, phi, omega, eps)
+        cr, rd, e = self.crank, self.rod, self.offset
+        if not (  # one design at one speed: nothing to broadcast
+            type(cr) is float and type(rd) is float and type(e) is float
+            and type(omega) is float and type(eps) is float
+        ):  # fmt: skip
+            guard_motion({"crank": cr, "rod": rd, "offset": e}, phi, omega, eps)
         a, b, s, rod = slider_crank_chain(*ops.cos_sin(phi), self.crank, self.rod, self.offset, phi)
         z = ops.zero_rows(a.x, 8)  # the crank pivot's and the crank's constant tracks
-        crank_jet = Jet(phi + 0.0 * self.crank, 1.0 + z[0], z[1])
+        crank_jet = Jet(ops.plus(0.0 * self.crank, phi), 1.0 + z[0], z[1])
         points = {"O": PointJet(*z[2:]), "A": a, "B": b}
         for name, (u, v) in (coupler_points or {}).items():
             points[name] = coupler_point(a, rod, u, v)
         # the rod's angle from the guide is within (-pi/2, pi/2) (B ahead of A): its size is
         # the pressure angle, arcsin(|offset - y_A| / rod)
         pressure = ops.fabs(rod.value)
-        return Motion.of(
-            phi=phi,
-            omega=omega,
-            epsilon=eps,
-            points={k: PointTrack.from_jet(p, omega, eps) for k, p in points.items()},
-            links={
-                "crank": LinkTrack.from_jet(crank_jet, omega, eps),
-                "rod": LinkTrack.from_jet(rod, omega, eps),
-            },
-            sliders={"B": SliderTrack.from_jet(s, omega, eps)},
-            pressure_angle=pressure,
-            transmission_angle=np.pi / 2 - pressure,
+        return Motion.from_jets(
+            phi,
+            omega,
+            eps,
+            points,
+            {"crank": crank_jet, "rod": rod},
+            {"B": s},
+            pressure,
+            np.pi / 2 - pressure,
         )
 
     def sketch(self, phi, coupler_points=None):

@@ -72,12 +72,13 @@ def _point_track(x, y, vx, vy, ax, ay):
     return t
 
 
-def _scalar_track(cls, a, b, c):
-    """``cls(a, b, c)`` for :class:`LinkTrack` and :class:`SliderTrack`, as :func:`_point_track`."""
+def _scalar_track(cls, values):
+    """``cls(*values)`` for :class:`LinkTrack` and :class:`SliderTrack`, as
+    :func:`_point_track`."""
     t = _new(cls)
+    a, b, c = cls._fields
     d = t.__dict__
-    for name, value in zip(cls._fields, (a, b, c)):
-        d[name] = value
+    d[a], d[b], d[c] = values
     return t
 
 
@@ -141,7 +142,7 @@ class LinkTrack:
 
     @classmethod
     def from_jet(cls, j: Jet, omega, epsilon) -> LinkTrack:
-        return _scalar_track(cls, *to_time(j, omega, epsilon))
+        return _scalar_track(cls, to_time(j, omega, epsilon))
 
 
 @dataclass(frozen=True)
@@ -156,7 +157,7 @@ class SliderTrack:
 
     @classmethod
     def from_jet(cls, j: Jet, omega, epsilon) -> SliderTrack:
-        return _scalar_track(cls, *to_time(j, omega, epsilon))
+        return _scalar_track(cls, to_time(j, omega, epsilon))
 
 
 @dataclass(frozen=True)
@@ -192,26 +193,28 @@ class Motion:
     transmission_angles: dict[str, Any] = field(default_factory=dict)
 
     @classmethod
-    def of(
-        cls, phi, omega, epsilon, points, links, pressure_angle, sliders, transmission_angle
+    def from_jets(
+        cls, phi, omega, epsilon, points, links, sliders, pressure_angle, transmission_angle
     ) -> Motion:
-        """The motion with these fields and empty ``extra``, ``pressure_angles`` and
-        ``transmission_angles``, built without the frozen dataclass's ``__init__`` (as
-        :func:`_point_track`): the named mechanisms' motions end here."""
+        """The motion of named jets (``points``: :class:`PointJet`, ``links`` and ``sliders``:
+        :class:`Jet`) at the crank speed ``omega`` and acceleration ``epsilon``, with empty
+        ``extra``, ``pressure_angles`` and ``transmission_angles``: where the named mechanisms'
+        motions end. Built without the frozen dataclasses' ``__init__`` (see
+        :func:`_point_track`)."""
+        if type(epsilon) is float and epsilon == 0.0 and type(omega) is float and omega == 1.0:
+            points = {k: _point_track(*p) for k, p in points.items()}  # the analogs themselves
+            links = {k: _scalar_track(LinkTrack, j) for k, j in links.items()}
+            sliders = {k: _scalar_track(SliderTrack, j) for k, j in sliders.items()}
+        else:
+            points = {k: PointTrack.from_jet(p, omega, epsilon) for k, p in points.items()}
+            links = {k: LinkTrack.from_jet(j, omega, epsilon) for k, j in links.items()}
+            sliders = {k: SliderTrack.from_jet(j, omega, epsilon) for k, j in sliders.items()}
         m = _new(cls)
-        m.__dict__.update(
-            phi=phi,
-            omega=omega,
-            epsilon=epsilon,
-            points=points,
-            links=links,
-            pressure_angle=pressure_angle,
-            sliders=sliders,
-            transmission_angle=transmission_angle,
-            extra={},
-            pressure_angles={},
-            transmission_angles={},
-        )
+        d = m.__dict__
+        d["phi"], d["omega"], d["epsilon"] = phi, omega, epsilon
+        d["points"], d["links"], d["pressure_angle"] = points, links, pressure_angle
+        d["sliders"], d["transmission_angle"] = sliders, transmission_angle
+        d["extra"], d["pressure_angles"], d["transmission_angles"] = {}, {}, {}
         return m
 
     @property
