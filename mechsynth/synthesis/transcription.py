@@ -369,10 +369,17 @@ class Transcription(NumericForms):
                     "ipopt.acceptable_tol": 1e-7,
                     "ipopt.constr_viol_tol": 1e-9,
                     "ipopt.max_iter": 500,
-                    # a peak's epigraph has one constraint per grid angle: the default barrier
-                    # parameter (0.1) would push the epigraph variable far above the peak
+                    # a peak's epigraph has one row per grid angle and branch (48 to 288 of
+                    # them): their barrier terms hold the epigraph variable about mu times the
+                    # row count above the peak (scaled to 1). The adaptive rule raised mu to
+                    # 0.1-0.2 early on, the epigraph variables went tens of peaks high and the
+                    # solves wandered (the crank-rocker example: 28-94 iterations a start,
+                    # 16-20 with the cap). Over the reference problems, the examples and the
+                    # impact synthesis, caps of 1e-2 to 2e-3 did best; 1e-2 and above lost the
+                    # impact synthesis (benchmarks/bench_synthesis.py --iterations --options)
                     "ipopt.mu_strategy": "adaptive",
-                    "ipopt.mu_init": 1e-3,
+                    "ipopt.mu_max": 5e-3,
+                    "ipopt.mu_init": 1e-3,  # the monotone rule's start, if options choose it
                     "error_on_fail": False,
                     # designs outside the assemblable region give NaN; IPOPT backtracks
                     "show_eval_warnings": False,
