@@ -89,3 +89,38 @@ def test_transmission_angle_is_the_angle_between_the_links():
     cos = np.sum(u * v, axis=0) / (fb.coupler * fb.rocker)
     np.testing.assert_allclose(np.cos(mu), cos, atol=1e-12)
     np.testing.assert_allclose(m.pressure_angle, np.abs(np.pi / 2 - mu), atol=0)
+
+
+@pytest.mark.parametrize("bad", [0.0, -1.0, float("nan"), float("inf"), 1e101])
+@pytest.mark.parametrize("name", ["crank", "coupler", "rocker", "ground"])
+def test_one_four_bar_refuses_bad_lengths(name, bad):
+    """The quick path of one numeric design checks what the general one does."""
+    dims = {"crank": 1.0, "coupler": 4.3, "rocker": 3.0, "ground": 5.2, name: bad}
+    with pytest.raises(MechanismError, match=name):
+        ms.FourBar(**dims)
+
+
+@pytest.mark.parametrize(
+    "dims",
+    [
+        {"crank": float("nan"), "rod": 0.24},
+        {"crank": 0.07, "rod": float("inf")},
+        {"crank": 0.07, "rod": 0.24, "offset": float("nan")},
+        {"crank": 0.07, "rod": 0.24, "offset": float("-inf")},
+        {"crank": 0.07, "rod": 0.24, "offset": 0.2},
+        {"crank": -0.07, "rod": 0.24},
+    ],
+)
+def test_one_slider_crank_refuses_bad_dimensions(dims):
+    with pytest.raises(MechanismError):
+        ms.SliderCrank(**dims)
+
+
+def test_one_four_bar_options_still_checked():
+    with pytest.raises(MechanismError, match="branch"):
+        ms.FourBar(1.0, 4.3, 3.0, 5.2, branch=["open"])
+    with pytest.raises(MechanismError, match="full_turn"):
+        ms.FourBar(1.0, 4.3, 3.0, 5.2, full_turn=1)
+    with pytest.raises(MechanismError, match="full turn"):
+        ms.FourBar(3.0, 4.3, 1.0, 5.2)
+    assert ms.FourBar(3.0, 4.3, 1.0, 5.2, full_turn=False).crank == 3.0

@@ -280,9 +280,11 @@ def _rrp_slide(t, hgt, t1, h1, t2, h2, length, branch, phi):
     the link's moving end over the guide, with the assembly and toggle checks. Shared by the
     fixed and the moving guide.
 
-    The link runs ``w = branch sqrt(length^2 - hgt^2)`` along the guide, ``s = t + w``; from
-    ``w w' = -hgt h1`` and its derivative, ``w' = -hgt h1 / w`` and
-    ``w'' = -(h1^2 + hgt h2 + w'^2) / w``. Returns the slider's jet, ``w`` and ``-w``.
+    The link runs ``w = branch sqrt(length^2 - hgt^2)`` along the guide, ``s = t + w``, at the
+    angle ``a`` from the guide with ``length (cos a, sin a) = (w, -hgt)``. Differentiating the
+    second, ``a' = -h1 / w`` and ``a'' = -(h2 + hgt a'^2) / w``; from ``w w' = -hgt h1`` and its
+    derivative, ``w' = hgt a'`` and ``w'' = -(length^2 a'^2 + hgt h2) / w``. Returns the
+    slider's jet, ``w``, ``-w``, ``a'`` and ``a'^2``.
     """
     ll = length * length
     w2 = ll - hgt * hgt
@@ -290,13 +292,15 @@ def _rrp_slide(t, hgt, t1, h1, t2, h2, length, branch, phi):
     if branch < 0:
         w = -w
     nw = -w
-    w_1 = hgt * h1 / nw
-    w_2 = (h1 * h1 + hgt * h2 + w_1 * w_1) / nw
-    # w'' holds w'^2: it is not finite wherever w' is not, so it alone is checked
+    a1 = h1 / nw
+    aa = a1 * a1
+    w_1 = hgt * a1
+    w_2 = (ll * aa + hgt * h2) / nw
+    # w'' holds a'^2: it is not finite wherever a' or w' is not, so it alone is checked
     if _failed(phi, w_2):
         _check_nonnegative(w2, ll, _RRP_FAR, phi)
         _check_toggle("RRP dyad: link perpendicular to the guide (toggle position)", phi, w_2)
-    return Jet(t + w, t1 + w_1, t2 + w_2), w, nw
+    return Jet(t + w, t1 + w_1, t2 + w_2), w, nw, a1, aa
 
 
 @_toggles_raise
@@ -329,11 +333,11 @@ def dyad_rrp(p: PointJet, length, guide_x=0.0, guide_y=0.0, guide_angle=0.0, bra
         t, hgt = rx * ux + ry * uy, ry * ux - rx * uy  # foot along the guide, signed height
         t1, h1 = p.dx * ux + p.dy * uy, p.dy * ux - p.dx * uy
         t2, h2 = p.ddx * ux + p.ddy * uy, p.ddy * ux - p.ddx * uy
-    s, w, nw = _rrp_slide(t, hgt, t1, h1, t2, h2, length, branch, phi)
+    s, w, nw, a1, aa = _rrp_slide(t, hgt, t1, h1, t2, h2, length, branch, phi)
     if along_x:
         b = PointJet(  # copies: B's track and the slider's are separate arrays
             ops.plus(guide_x, s.value),
-            ops.plus(guide_y, ops.zeros_like(s.value)),
+            ops.full_like(s.value, guide_y),
             ops.plus(0.0, s.d1),
             ops.zeros_like(s.d1),
             ops.plus(0.0, s.d2),
@@ -350,9 +354,7 @@ def dyad_rrp(p: PointJet, length, guide_x=0.0, guide_y=0.0, guide_angle=0.0, bra
             s.d2 * uy,
         )
         angle = ops.arctan2(w * uy - hgt * ux, w * ux + hgt * uy)
-    a1 = h1 / nw
-    theta = Jet(angle, a1, (h2 + hgt * a1 * a1) / nw)
-    return b, s, theta
+    return b, s, Jet(angle, a1, (h2 + hgt * aa) / nw)
 
 
 @_toggles_raise
@@ -388,7 +390,7 @@ def dyad_rrp_on(p: PointJet, length, g: PointJet, theta: Jet, branch=1, phi=None
     hgt = rx * nx + ry * ny
     r1u = rx1 * ux + ry1 * uy
     r1n = rx1 * nx + ry1 * ny
-    s, _, _ = _rrp_slide(
+    s, _, _, _, _ = _rrp_slide(
         t,
         hgt,
         r1u + w * hgt,

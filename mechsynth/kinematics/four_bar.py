@@ -20,6 +20,7 @@ import numpy as np
 
 from .. import validate
 from ..errors import MechanismError
+from ..validate import MAX_LENGTH
 from . import ops
 from .blocks import coupler_point, crank_pin, dyad_rrr
 from .mechanism import (
@@ -131,6 +132,15 @@ class FourBar(Mechanism):
     default_output: ClassVar[str] = "B"
 
     def __post_init__(self):
+        a, b, c, d = self.crank, self.coupler, self.rocker, self.ground
+        if (  # one design: lengths in (0, MAX_LENGTH] (NaN fails), a crank that turns fully
+            type(a) is float and type(b) is float and type(c) is float and type(d) is float
+            and 0.0 < a <= MAX_LENGTH and 0.0 < b <= MAX_LENGTH
+            and 0.0 < c <= MAX_LENGTH and 0.0 < d <= MAX_LENGTH
+            and self.full_turn is True and type(self.branch) is str and self.branch in _BRANCHES
+            and a + d < b + c and abs(d - a) > abs(b - c)
+        ):  # fmt: skip
+            return
         for name in self.parameters:
             object.__setattr__(self, name, check_length(name, getattr(self, name)))
         if not isinstance(self.full_turn, (bool, np.bool_)):
@@ -140,10 +150,7 @@ class FourBar(Mechanism):
         a, b, c, d = self.crank, self.coupler, self.rocker, self.ground
         if ops.is_symbolic(a, b, c, d):
             return
-        if type(a) is float and type(b) is float and type(c) is float and type(d) is float:
-            if self.full_turn and a + d < b + c and abs(d - a) > abs(b - c):
-                return  # one design whose crank turns fully
-        else:
+        if not (type(a) is float and type(b) is float and type(c) is float and type(d) is float):
             validate.broadcast(crank=a, coupler=b, rocker=c, ground=d)
         if self.full_turn:
             fail_where(
@@ -261,10 +268,10 @@ class FourBar(Mechanism):
             self.sigma,
             phi,
         )
-        z = ops.zero_rows(a.x, 14)  # the frame pivots' and the crank's constant tracks
-        crank_jet = Jet(ops.plus(0.0 * self.crank, phi), 1.0 + z[0], z[1])
-        o1 = PointJet(*z[2:8])
-        o2 = PointJet(self.ground + z[8], *z[9:])
+        z = ops.zero_rows(a.x, 12)  # the frame pivots' and the crank's constant tracks
+        crank_jet = Jet(ops.plus(0.0 * self.crank, phi), ops.full_like(a.x, 1.0), z[0])
+        o1 = PointJet(*z[1:7])
+        o2 = PointJet(ops.full_like(a.x, self.ground), *z[7:])
         points = {"O1": o1, "A": a, "B": b, "O2": o2}
         for name, (u, v) in (coupler_points or {}).items():
             points[name] = coupler_point(a, coupler, u, v)

@@ -15,6 +15,7 @@ __all__ = [
     "zeros_like",
     "zero_rows",
     "plus",
+    "full_like",
     "sin",
     "cos",
     "cos_sin",
@@ -64,6 +65,16 @@ def plus(c, x):
     if type(x) is np.ndarray and is_zero(c):
         return x.copy()
     return c + x
+
+
+def full_like(x, c):
+    """A new array of the shape of ``x`` holding the number ``c``; ``c + 0 * x`` for anything
+    else (an array of values broadcasts, a symbol stays one)."""
+    if type(x) is np.ndarray and type(c) is float:
+        out = np.empty(x.shape)
+        out.fill(c)
+        return out
+    return c + zeros_like(x)
 
 
 def zero_rows(x, k: int) -> list:

@@ -47,6 +47,11 @@ def zeros_like(x):
 
 
 @_jit
+def full_like(x, c):
+    return c
+
+
+@_jit
 def plus(c, x):
     return c + x
 

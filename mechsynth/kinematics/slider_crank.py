@@ -10,12 +10,14 @@ Conventions
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
 
 from .. import validate
+from ..validate import MAX_LENGTH
 from . import ops
 from .blocks import coupler_point, crank_pin, dyad_rrp
 from .mechanism import (
@@ -75,13 +77,16 @@ class SliderCrank(Mechanism):
     default_output: ClassVar[str] = "slider"
 
     def __post_init__(self):
+        a, b, e = self.crank, self.rod, self.offset
+        if type(a) is float and type(b) is float and type(e) is float:  # one design
+            # lengths in (0, MAX_LENGTH] (NaN fails), a finite offset, a crank that turns
+            if 0.0 < a <= MAX_LENGTH and 0.0 < b <= MAX_LENGTH and abs(e) < math.inf:
+                if b > a + abs(e):
+                    return
         object.__setattr__(self, "crank", check_length("crank", self.crank))
         object.__setattr__(self, "rod", check_length("rod", self.rod))
         object.__setattr__(self, "offset", check_finite("offset", self.offset))
         a, b, e = self.crank, self.rod, self.offset
-        if type(a) is float and type(b) is float and type(e) is float:  # one design
-            if b > a + abs(e):
-                return
         if not ops.is_symbolic(a, b, e):
             if type(a) is not float or type(b) is not float or type(e) is not float:
                 validate.broadcast(crank=a, rod=b, offset=e)
@@ -139,9 +144,9 @@ class SliderCrank(Mechanism):
         ):  # fmt: skip
             guard_motion({"crank": cr, "rod": rd, "offset": e}, phi, omega, eps)
         a, b, s, rod = slider_crank_chain(*ops.cos_sin(phi), self.crank, self.rod, self.offset, phi)
-        z = ops.zero_rows(a.x, 8)  # the crank pivot's and the crank's constant tracks
-        crank_jet = Jet(ops.plus(0.0 * self.crank, phi), 1.0 + z[0], z[1])
-        points = {"O": PointJet(*z[2:]), "A": a, "B": b}
+        z = ops.zero_rows(a.x, 7)  # the crank pivot's and the crank's constant tracks
+        crank_jet = Jet(ops.plus(0.0 * self.crank, phi), ops.full_like(a.x, 1.0), z[0])
+        points = {"O": PointJet(*z[1:]), "A": a, "B": b}
         for name, (u, v) in (coupler_points or {}).items():
             points[name] = coupler_point(a, rod, u, v)
         # the rod's angle from the guide is within (-pi/2, pi/2) (B ahead of A): its size is
