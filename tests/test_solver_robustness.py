@@ -41,6 +41,9 @@ def test_default_solve_reaches_the_four_bar_reference_despite_invalid_starts():
     assert res.variables["coupler"] == pytest.approx(ref.design["coupler"], rel=1e-5)
     assert res.variables["rocker"] == pytest.approx(ref.design["rocker"], rel=1e-4)
     c = res.certification
+    # deterministic (seeded starts): 165 IPOPT iterations over the 3 valid starts, 110 of them
+    # in one start whose Newton steps keep leaving the assemblable region (NaN, backtracking)
+    assert c.total_iterations <= 220, c.iterations
     # most of the box is not a crank-rocker: points were skipped and replaced, and when fewer
     # than 8 valid starts were found the message says how many ran and why
     assert c.starts_skipped > 0
