@@ -373,7 +373,7 @@ class Transcription(NumericForms):
                     # them): their barrier terms hold the epigraph variable about mu times the
                     # row count above the peak (scaled to 1). The adaptive rule raised mu to
                     # 0.1-0.2 early on, the epigraph variables went tens of peaks high and the
-                    # solves wandered (the crank-rocker example: 28-94 iterations a start,
+                    # solves wandered (the crank-rocker example: 14-57 iterations a start,
                     # 16-20 with the cap). Over the reference problems, the examples and the
                     # impact synthesis, caps of 1e-2 to 2e-3 did best; 1e-2 and above lost the
                     # impact synthesis (benchmarks/bench_synthesis.py --iterations --options)
