@@ -104,11 +104,11 @@ def cos(x):
 
 
 def cos_sin(phi):
-    """``cos(phi), sin(phi)``. For a float array those of the last grid are remembered (a loop
-    over designs or a sweep reuses one grid of crank angles): the grid is compared bit for bit,
-    so an edited array is never mistaken for it. The arrays returned may be shared between
-    calls: callers never change them in place."""
-    if type(phi) is not np.ndarray or phi.dtype != np.float64:
+    """``cos(phi), sin(phi)``. For a float array (of up to 65,536 angles) those of the last grid
+    are remembered (a loop over designs or a sweep reuses one grid of crank angles): the grid is
+    compared bit for bit, so an edited array is never mistaken for it. The arrays returned may
+    be shared between calls: callers never change them in place."""
+    if type(phi) is not np.ndarray or phi.dtype != np.float64 or phi.size > _GRID_MAX:
         return cos(phi), sin(phi)
     key = phi.tobytes()
     last = _GRID[0]
@@ -121,6 +121,8 @@ def cos_sin(phi):
 
 #: the last grid's shape, bytes, cosines and sines (one tuple: replaced in one step)
 _GRID: list = [None]
+#: largest grid (angles) remembered: a grid of angles, not a batch's worth of memory
+_GRID_MAX = 1 << 16
 
 
 def tan(x):
