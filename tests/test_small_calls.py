@@ -124,3 +124,21 @@ def test_one_four_bar_options_still_checked():
     with pytest.raises(MechanismError, match="full turn"):
         ms.FourBar(3.0, 4.3, 1.0, 5.2)
     assert ms.FourBar(3.0, 4.3, 1.0, 5.2, full_turn=False).crank == 3.0
+
+
+@pytest.mark.parametrize(
+    "mech", [ms.FourBar(1.0, 4.3, 3.0, 5.2), ms.SliderCrank(0.07, 0.24, 0.01)], ids=str
+)
+def test_constant_tracks_at_a_speed(mech):
+    """The crank's and the frame pivots' tracks are made, not scaled: the crank turns at the
+    speed and acceleration asked, the pivots stand still; the moving points scale."""
+    phi = ms.cycle(24)
+    m, ref = mech.motion(phi, speed=3.0, epsilon=2.0), mech.motion(phi)
+    crank = m.links["crank"]
+    np.testing.assert_array_equal(crank.angle, phi)
+    assert np.all(crank.omega == 3.0) and np.all(crank.epsilon == 2.0)
+    pivot = m.points["O" if "O" in m.points else "O1"]
+    assert all(np.all(v == 0.0) for v in vars(pivot).values())
+    b, b0 = m.points["B"], ref.points["B"]
+    np.testing.assert_allclose(b.vx, 3.0 * b0.vx, rtol=1e-15)
+    np.testing.assert_allclose(b.ax, 9.0 * b0.ax + 2.0 * b0.vx, rtol=1e-14, atol=1e-15)

@@ -31,7 +31,7 @@ from .mechanism import (
     guard_motion,
     speed_pair,
 )
-from .tracks import Jet, Motion, PointJet
+from .tracks import LinkTrack, Motion, PointJet, PointTrack
 
 __all__ = ["FourBar", "Grashof", "grashof", "four_bar_chain"]
 
@@ -268,10 +268,13 @@ class FourBar(Mechanism):
             self.sigma,
             phi,
         )
-        z = ops.zero_rows(a.x, 12)  # the frame pivots' and the crank's constant tracks
-        crank_jet = Jet(ops.plus(0.0 * self.crank, phi), ops.full_like(a.x, 1.0), z[0])
-        o1 = PointJet(*z[1:7])
-        o2 = PointJet(ops.full_like(a.x, self.ground), *z[7:])
+        # the frame pivots' and the crank's tracks are constants: made, not computed
+        crank = LinkTrack.of(
+            ops.plus(0.0 * self.crank, phi), ops.full_like(a.x, omega), ops.full_like(a.x, eps)
+        )
+        z = ops.zero_rows(a.x, 11)
+        o1 = PointTrack.of(*z[:6])
+        o2 = PointTrack.of(ops.full_like(a.x, self.ground), *z[6:])
         points = {"O1": o1, "A": a, "B": b, "O2": o2}
         for name, (u, v) in (coupler_points or {}).items():
             points[name] = coupler_point(a, coupler, u, v)
@@ -284,7 +287,7 @@ class FourBar(Mechanism):
             omega,
             eps,
             points,
-            {"crank": crank_jet, "coupler": coupler, "rocker": rocker},
+            {"crank": crank, "coupler": coupler, "rocker": rocker},
             {},
             ops.fabs(np.pi / 2 - mu),
             mu,

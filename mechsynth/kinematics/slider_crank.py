@@ -29,7 +29,7 @@ from .mechanism import (
     guard_motion,
     speed_pair,
 )
-from .tracks import Jet, Motion, PointJet
+from .tracks import LinkTrack, Motion, PointJet, PointTrack
 
 __all__ = ["SliderCrank", "slider_crank_chain"]
 
@@ -144,9 +144,11 @@ class SliderCrank(Mechanism):
         ):  # fmt: skip
             guard_motion({"crank": cr, "rod": rd, "offset": e}, phi, omega, eps)
         a, b, s, rod = slider_crank_chain(*ops.cos_sin(phi), self.crank, self.rod, self.offset, phi)
-        z = ops.zero_rows(a.x, 7)  # the crank pivot's and the crank's constant tracks
-        crank_jet = Jet(ops.plus(0.0 * self.crank, phi), ops.full_like(a.x, 1.0), z[0])
-        points = {"O": PointJet(*z[1:]), "A": a, "B": b}
+        # the crank pivot's and the crank's tracks are constants: made, not computed
+        crank = LinkTrack.of(
+            ops.plus(0.0 * self.crank, phi), ops.full_like(a.x, omega), ops.full_like(a.x, eps)
+        )
+        points = {"O": PointTrack.of(*ops.zero_rows(a.x, 6)), "A": a, "B": b}
         for name, (u, v) in (coupler_points or {}).items():
             points[name] = coupler_point(a, rod, u, v)
         # the rod's angle from the guide is within (-pi/2, pi/2) (B ahead of A): its size is
@@ -157,7 +159,7 @@ class SliderCrank(Mechanism):
             omega,
             eps,
             points,
-            {"crank": crank_jet, "rod": rod},
+            {"crank": crank, "rod": rod},
             {"B": s},
             pressure,
             np.pi / 2 - pressure,
