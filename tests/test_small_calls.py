@@ -142,3 +142,23 @@ def test_constant_tracks_at_a_speed(mech):
     b, b0 = m.points["B"], ref.points["B"]
     np.testing.assert_allclose(b.vx, 3.0 * b0.vx, rtol=1e-15)
     np.testing.assert_allclose(b.ax, 9.0 * b0.ax + 2.0 * b0.vx, rtol=1e-14, atol=1e-15)
+
+
+def test_numeric_helpers_of_ops():
+    x = np.arange(3.0)
+    y = ops.plus(0.0, x)
+    assert y is not x and np.array_equal(y, x)
+    assert ops.plus(0, np.arange(3)).dtype.kind == "i"  # an integer array: the sum's type
+    assert ops.plus(0.0, np.arange(3)).dtype == np.float64
+    np.testing.assert_array_equal(ops.plus(1.5, x), x + 1.5)
+    f = ops.full_like(x, 2.0)
+    assert f.shape == (3,) and np.all(f == 2.0)
+    np.testing.assert_array_equal(
+        ops.full_like(x, np.array([[1.0], [2.0]])), [[1.0] * 3, [2.0] * 3]
+    )
+    rows = ops.zero_rows(x, 4)
+    assert len(rows) == 4 and all(r.shape == (3,) and not r.any() for r in rows)
+    rows[0][0] = 1.0
+    assert not rows[1].any()
+    assert ops.is_zero(0.0) and ops.is_zero(0) and not ops.is_zero(np.zeros(1))
+    assert not ops.is_zero(1e-300) and not ops.is_zero(False)
