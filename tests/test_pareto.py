@@ -190,3 +190,32 @@ def test_an_anchor_beaten_by_a_sweep_point_is_solved_again_from_it():
         ("max", "min"),
     )
     assert vals2[0] == (10.0, 50.0) and results2[0].variables["x"] == 0.0
+
+
+def test_a_failed_inner_point_is_solved_again_from_the_next_solved_one():
+    """The sweep starts each inner point from the previous solved one; a point that fails is
+    tried once more from the next solved point towards the second anchor (last to first, so a
+    recovered point seeds the one before it); a retry that fails too stays a failure."""
+    from types import SimpleNamespace
+
+    from mechsynth.synthesis.pareto import _retry_failed
+
+    def res(x, ok=True):
+        return SimpleNamespace(success=ok, variables={"x": x})
+
+    results = [res(0.0), res(1.0), res(None, False), res(None, False), res(4.0)]
+    vals = [(10.0, 50.0), (9.0, 40.0), (np.nan, np.nan), (np.nan, np.nan), (5.0, 10.0)]
+    eps = [50.0, 40.0, 30.0, 20.0, 10.0]
+    calls = []
+
+    def point(e, x0):
+        calls.append((e, x0["x"]))
+        return res(e), (e / 4.0, e)
+
+    _retry_failed(results, vals, eps, point)
+    assert calls == [(20.0, 4.0), (30.0, 20.0)]
+    assert vals[3] == (5.0, 20.0) and vals[2] == (7.5, 30.0) and results[2].variables["x"] == 30.0
+    results = [res(0.0), res(None, False), res(4.0)]
+    vals = [(10.0, 50.0), (np.nan, np.nan), (5.0, 10.0)]
+    _retry_failed(results, vals, [50.0, 30.0, 10.0], lambda e, x0: (res(e, False), (1.0, e)))
+    assert not results[1].success and np.isnan(vals[1][0])

@@ -284,7 +284,9 @@ def pareto_front(
     polish_anchors : the anchors are local optima of multi-start solves; when a point of the
         sweep beats an anchor in its own objective (``first`` for the first anchor, ``second``
         for the second), the anchor is solved again from that point's design and kept if
-        better (``ParetoFront.results`` then holds the re-solved anchor).
+        better (``ParetoFront.results`` then holds the re-solved anchor). (Independently of
+        it, an inner point that fails from the previous point's design is tried once more from
+        the next solved point's.)
 
     Returns
     -------
@@ -340,6 +342,11 @@ def pareto_front(
         p, r = solve(first, senses[0], lexicographic(float(rs.value)), x0=rs.variables, n_starts=1)
         return r, measured(p, r)
 
+    def point(e, x0):
+        """The point at bound ``e`` from ``x0``, one start: (result, values)."""
+        p, r = solve(first, senses[0], float(e), x0=x0)
+        return r, measured(p, r)
+
     results, eps_list, vals = [], [], []  # per point, anchors first and last
     bar = progress_bar(total=n, desc="Pareto front", enabled=progress, unit="point")
     # anchor 1: first alone
@@ -387,6 +394,8 @@ def pareto_front(
             eps_list.append(np.nan)
     bar.update(n - bar.n)
     bar.close()
+    if len(results) >= 3 and results[-1].success:
+        _retry_failed(results, vals, eps_list, point)
     if polish_anchors and len(results) >= 3 and r1.success:
         _polish_anchors(results, vals, eps_list, anchor1, anchor2, senses)
     success = np.array([r.success for r in results], dtype=bool)
@@ -410,6 +419,19 @@ def pareto_front(
         variables=tuple(problem.names),
         solve_time=time.perf_counter() - t0,
     )
+
+
+def _retry_failed(results, vals, eps_list, point):
+    """Solve a failed inner point again from the next solved point towards the second anchor
+    (the sweep started it from the previous one), last to first, so a point solved again can
+    start the one before it."""
+    for k in range(len(results) - 2, 0, -1):
+        if results[k].success:
+            continue
+        j = next(j for j in range(k + 1, len(results)) if results[j].success)
+        r, v = point(eps_list[k], results[j].variables)
+        if r.success:
+            results[k], vals[k] = r, v
 
 
 def _polish_anchors(results, vals, eps_list, anchor1, anchor2, senses):
