@@ -110,16 +110,46 @@ def _length(iterable):
         return None
 
 
+class _Silent:
+    """What a bar that shows nothing needs: iteration, a count, ``update`` and ``close`` (no
+    tqdm import, which costs more than a small solve)."""
+
+    disable = True
+
+    def __init__(self, iterable, total, desc):
+        self.iterable, self.total, self.desc, self.n = iterable, total, desc, 0
+
+    def __iter__(self):
+        for item in self.iterable:
+            yield item
+            self.n += 1
+
+    def update(self, n=1):
+        self.n += n
+
+    def set_description_str(self, desc=None, refresh=True):
+        self.desc = desc
+
+    def close(self):
+        pass
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
 def bar(iterable=None, *, total=None, desc=None, enabled=None, leave=False, unit="it"):
     """A tqdm bar: shown when ``enabled`` is True, or when it is None and standard error is a
     terminal; never when :func:`quiet` is on."""
-    from tqdm.auto import tqdm
-
     if _quiet[0] or enabled is False:
-        disable = True
+        inner = _Silent(iterable, total, desc)
     else:
+        from tqdm.auto import tqdm
+
         disable = None if enabled is None else False
-    inner = tqdm(iterable, total=total, desc=desc, disable=disable, leave=leave, unit=unit)
+        inner = tqdm(iterable, total=total, desc=desc, disable=disable, leave=leave, unit=unit)
     if _observers:
         return _Observed(inner, iterable, total, desc)
     return inner

@@ -77,3 +77,21 @@ def test_registries_fill_on_demand_without_the_package_api():
     out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True)
     assert out.returncode == 0, out.stderr
     assert out.stdout.split() == ["ProblemSpec", "ForceModel"]
+
+
+def test_a_certified_solve_loads_only_casadi_and_scipy_core():
+    # scipy.stats (0.6 s, for the Sobol starts), scipy.optimize (0.4 s, for the certifier's 1-D
+    # search) and tqdm (for a bar that is off) once made a solve in a new interpreter take 0.76 s
+    code = (
+        "import mechsynth as ms\n"
+        "from mechsynth import objectives as ob\n"
+        "prob = ms.Problem(ms.FourBar, variables={'crank': (0.05, 0.5), 'coupler': (0.3, 2.0),"
+        " 'rocker': (0.3, 1.5)}, fixed={'ground': 1.0})\n"
+        "prob.maximize(ob.min_transmission_angle())\n"
+        "prob.subject_to(ob.swing_angle('rocker') == ms.deg(40), ob.time_ratio() == 1.0)\n"
+        "assert prob.solve(starts=2, progress=False).success\n"
+    )
+    loaded = _loaded(code)
+    assert "casadi" in loaded
+    bad = ("scipy.stats", "scipy.optimize", "scipy.integrate", "tqdm", "numba", "matplotlib")
+    assert [m for m in loaded if m.startswith(bad)] == []

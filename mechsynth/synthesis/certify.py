@@ -43,6 +43,60 @@ def _q(atom, mechanism, speed, phi):
     return np.asarray(atom.q(mechanism, motion), dtype=float)
 
 
+_GOLDEN = 0.5 * (3.0 - 5.0**0.5)
+_SQRT_EPS = float(np.sqrt(np.finfo(float).eps))
+
+
+def _local_min(f, a, b, xatol=1e-11, maxiter=500):
+    """A local minimum of ``f`` on ``[a, b]``: Brent's method (golden sections and parabolic
+    steps), ended when the bracket is within ``xatol`` (plus ``sqrt(eps) |x|``) of its best
+    point. Returns ``(x, f(x))``. (In place of ``scipy.optimize.minimize_scalar(method=
+    "bounded")``, whose import costs more than a whole certified solve.)"""
+    x = w = v = a + _GOLDEN * (b - a)
+    fx = fw = fv = f(x)
+    d = e = 0.0
+    for _ in range(maxiter):
+        m = 0.5 * (a + b)
+        tol = _SQRT_EPS * abs(x) + xatol / 3.0
+        if abs(x - m) <= 2.0 * tol - 0.5 * (b - a):
+            break
+        parabolic = False
+        if abs(e) > tol:  # the parabola through x, w, v
+            r = (x - w) * (fx - fv)
+            q = (x - v) * (fx - fw)
+            p = (x - v) * q - (x - w) * r
+            q = 2.0 * (q - r)
+            if q > 0.0:
+                p = -p
+            q = abs(q)
+            if abs(p) < abs(0.5 * q * e) and q * (a - x) < p < q * (b - x):
+                e, d = d, p / q
+                parabolic = True
+                if (x + d) - a < 2.0 * tol or b - (x + d) < 2.0 * tol:
+                    d = tol if x < m else -tol
+        if not parabolic:  # a golden section of the larger part
+            e = (b - x) if x < m else (a - x)
+            d = _GOLDEN * e
+        u = x + (d if abs(d) >= tol else (tol if d > 0 else -tol))
+        fu = f(u)
+        if fu <= fx:
+            if u < x:
+                b = x
+            else:
+                a = x
+            v, fv, w, fw, x, fx = w, fw, x, fx, u, fu
+        else:
+            if u < x:
+                a = u
+            else:
+                b = u
+            if fu <= fw or w == x:
+                v, fv, w, fw = w, fw, u, fu
+            elif fu <= fv or v == x or v == w:
+                v, fv = u, fu
+    return x, fx
+
+
 def true_peak(atom, mechanism, speed=None, n_dense=2048, window=1e-2, max_candidates=6):
     """True maximum of ``q`` (the atom's stacked branches) over the crank angle (over the travel
     of a linkage driven by a slider, ends included: its input does not wrap around).
@@ -61,8 +115,6 @@ def true_peak(atom, mechanism, speed=None, n_dense=2048, window=1e-2, max_candid
     q = _q(atom, mechanism, speed, phi)
     top = float(q.max())
     spread = max(float(q.max() - q.min()), abs(top), 1e-300)
-    from scipy.optimize import minimize_scalar  # deferred: heavy
-
     candidates = []
     for j, qj in enumerate(q):
         before, after = np.roll(qj, 1), np.roll(qj, -1)
@@ -80,8 +132,8 @@ def true_peak(atom, mechanism, speed=None, n_dense=2048, window=1e-2, max_candid
             a, b = phi[i] - h, phi[i] + h
             if not periodic:
                 a, b = max(a, lo), min(b, hi)
-            res = minimize_scalar(neg, bounds=(a, b), method="bounded", options={"xatol": 1e-11})
-            angle, value = (float(res.x), -float(res.fun)) if -res.fun >= qj[i] else (phi[i], qj[i])
+            x, fx = _local_min(neg, a, b, xatol=1e-11)
+            angle, value = (float(x), -float(fx)) if -fx >= qj[i] else (phi[i], qj[i])
             if periodic:
                 angle = float(np.mod(angle - lo, hi - lo) + lo)
             candidates.append((float(angle), float(value)))

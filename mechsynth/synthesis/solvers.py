@@ -2,7 +2,8 @@
 evolution as the global cross-check.
 
 Local method (``"ipopt"``, ``"slsqp"``)
-    1. Sobol sample of the variable box (``scipy.stats.qmc``); points that are not valid designs
+    1. Sobol sample of the variable box (:mod:`.sobol`: ``scipy.stats.qmc``'s points); points
+       that are not valid designs
        (the mechanism raises :class:`~mechsynth.errors.MechanismError`, or violates its
        ``feasibility_constraints``) are skipped and replaced by the next point.
     2. Each start is solved on the base grid (IPOPT through CasADi with exact first and second
@@ -257,7 +258,7 @@ def _start_points(problem, tr: Transcription, starts, seed, x0, grid):
     there (a swing angle of a double-crank does not); invalid points are replaced by the next
     Sobol point, up to ``START_BUDGET`` points per start asked (at least 16).
     """
-    from scipy.stats import qmc
+    from .sobol import sobol
 
     points, skipped, reason, tried = [], 0, "", 0
     candidates = []
@@ -265,7 +266,7 @@ def _start_points(problem, tr: Transcription, starts, seed, x0, grid):
         vals = [x0[k] if isinstance(x0, dict) else x0[i] for i, k in enumerate(problem.names)]
         candidates.append(tr.z_of(vals))
     m = int(2 ** np.ceil(np.log2(max(START_BUDGET * starts, _MIN_CANDIDATES))))
-    sob = qmc.Sobol(d=tr.n, scramble=True, seed=seed).random(m)
+    sob = sobol(tr.n, m, seed)
     candidates.extend(sob)
     for z in candidates:
         if len(points) >= starts:
