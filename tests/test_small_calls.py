@@ -162,3 +162,21 @@ def test_numeric_helpers_of_ops():
     assert not rows[1].any()
     assert ops.is_zero(0.0) and ops.is_zero(0) and not ops.is_zero(np.zeros(1))
     assert not ops.is_zero(1e-300) and not ops.is_zero(False)
+
+
+def test_finite_test_of_ops():
+    """One pass finds a NaN or an infinity anywhere; an entry whose square overflows gives
+    False too (its callers then test entry by entry), a huge finite one passes those."""
+    x = np.linspace(-3.0, 3.0, 12).reshape(3, 4)
+    assert ops.finite(x) and ops.finite(x[:, ::2]) and ops.finite(np.zeros(0))
+    for bad in (np.nan, np.inf, -np.inf, 1e200):
+        y = x.copy()
+        y[2, 1] = bad
+        assert not ops.finite(y), bad
+    # a dyad whose second analogs are past 1e154 but finite: no error, as without the quick test
+    from mechsynth.kinematics.blocks import dyad_rrp
+
+    y = np.array([0.5, -0.25])
+    p = PointJet(0.0 * y, y, 0.0 * y, 0.0 * y, 0.0 * y, 1e200 + 0.0 * y)
+    _, s, _ = dyad_rrp(p, 1.0, phi=np.array([0.1, 0.2]))
+    assert np.all(np.isfinite(s.d2)) and np.min(np.abs(s.d2)) > 1e199

@@ -43,6 +43,10 @@ __all__ = [
 # Relative round-off allowed in an assembly condition before it counts as violated.
 _ASSEMBLY_RTOL = 1e-12
 
+#: numpy >= 2, whose ``errstate`` used as a decorator keeps its state per call (numpy 1 keeps it
+#: on the one ``errstate`` object, which a nested or concurrent call would overwrite)
+_NUMPY_2 = int(np.__version__.split(".")[0]) >= 2
+
 
 def _with_angles(exc, phi, bad, value=None, limit=8):
     """Attach to ``exc`` where it failed: ``exc.angles``, the crank angles (rad) where ``bad``
@@ -116,10 +120,10 @@ def _failed(phi, *analogs):
     given. One pass: the sum of the analogs is finite when they all are."""
     if phi is None or ops.is_symbolic(phi, *analogs):
         return False
-    total = 0.0
     for x in analogs:
-        total += np.add.reduce(x, axis=None)
-    return not math.isfinite(total)
+        if not ops.finite(x):
+            return True
+    return False
 
 
 def _check_toggle(what, phi, *analogs):
@@ -145,10 +149,16 @@ def _check_toggle(what, phi, *analogs):
         )
 
 
+#: numpy's 0/0 and x/0 warnings off (numpy >= 2 sets them per call, in the calling context)
+_QUIET = np.errstate(divide="ignore", invalid="ignore")
+
+
 def _toggles_raise(fn):
     """Run a dyad with numpy's 0/0 and x/0 warnings off: at a toggle position its analogs are
     inf or nan, and the dyad raises MechanismError for them instead. The undecorated function
     (``__wrapped__``) is what the compiled kernels are built from."""
+    if _NUMPY_2:  # numpy's own decorator: no context manager object made per call
+        return _QUIET(fn)
 
     @functools.wraps(fn)
     def quiet(*args, **kwargs):

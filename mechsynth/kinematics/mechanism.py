@@ -9,7 +9,6 @@ optimizer). Numeric parameters are validated on construction; symbolic ones are 
 from __future__ import annotations
 
 import dataclasses
-import math
 from typing import Any, ClassVar
 
 import numpy as np
@@ -77,7 +76,7 @@ def as_angles(phi):
     """Crank angles as a float array (or number, or CasADi expression): any array-like works,
     a list, a tuple, a ``range``. NaN and infinite angles are refused (MechanismError)."""
     if type(phi) is np.ndarray and phi.dtype == np.float64:
-        if math.isfinite(np.add.reduce(phi, axis=None)):  # every angle finite
+        if ops.finite(phi):  # every angle finite (else the exact test, in validate.angles)
             return phi
     if ops.is_symbolic(phi):
         return phi

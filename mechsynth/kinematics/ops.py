@@ -7,6 +7,8 @@ whose exact derivatives feed IPOPT. Dispatch is by argument type; numpy is the f
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 __all__ = [
@@ -49,6 +51,13 @@ def is_zero(x) -> bool:
     """True if ``x`` is the number 0 (not an array, not a symbol): lets a block skip the work a
     zero parameter makes void (a guide along +x needs no rotation into its frame)."""
     return (type(x) is float or type(x) is int) and x == 0
+
+
+def finite(x) -> bool:
+    """True if every entry of the float array ``x`` is finite, in one pass: its dot product
+    with itself (a BLAS call, quicker than a sum) is finite. False also for an entry past
+    about 1e154, whose square overflows: a caller then tests entry by entry."""
+    return math.isfinite(np.vdot(x, x))
 
 
 def zeros_like(x):
