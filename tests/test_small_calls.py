@@ -173,6 +173,12 @@ def test_finite_test_of_ops():
         y = x.copy()
         y[2, 1] = bad
         assert not ops.finite(y), bad
+    big = np.ones((3, 5000))  # past the dot product's size: a sum
+    assert ops.finite(big) and ops.finite(1e300 * big)
+    for bad in (np.nan, np.inf, -np.inf):
+        y = big.copy()
+        y[1, 4321] = bad
+        assert not ops.finite(y), bad
     # a dyad whose second analogs are past 1e154 but finite: no error, as without the quick test
     from mechsynth.kinematics.blocks import dyad_rrp
 

@@ -183,7 +183,8 @@ def crank_pin(c, s, length, x0=0.0, y0=0.0) -> PointJet:
     for all designs.
     """
     x, y = length * c, length * s
-    return PointJet(ops.plus(x0, x), ops.plus(y0, y), -y, x, -x, -y)
+    # x is also the pin's dx: its position is a copy; y is held by the position alone
+    return PointJet(ops.plus(x0, x), _shifted(y, -y0), -y, x, -x, -y)
 
 
 def link_angle(p: PointJet, q: PointJet) -> Jet:
