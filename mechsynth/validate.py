@@ -215,6 +215,17 @@ def integer(name: str, value, lo: int | None = None, hi: int | None = None) -> i
     return n
 
 
+def finite(x) -> bool:
+    """True if every entry of the float array ``x`` is finite, in one pass: its sum is finite,
+    or for up to 8,192 entries (one design's grid of angles) its dot product with itself (a
+    BLAS call, quicker there than a sum; BLAS may thread a longer one). False also for a sum
+    or a square that overflows (entries past about 1e154): a caller then tests entry by
+    entry."""
+    if x.size <= 8192:
+        return math.isfinite(np.vdot(x, x))
+    return math.isfinite(np.add.reduce(x, axis=None))
+
+
 def angles(value, name: str = "crank angles"):
     """Crank angles (rad): a number or an array of finite real numbers (any array-like: a list,
     a tuple, a ``range``). Empty arrays are allowed (a motion over no angles is empty)."""
@@ -223,13 +234,13 @@ def angles(value, name: str = "crank angles"):
             raise MechanismError(f"{name} must be finite (rad), got {value!r}")
         return value
     if type(value) is np.ndarray and value.dtype == np.float64:
-        # a finite sum proves every angle finite (one pass); only its failure (a bad angle,
-        # or a sum past 1e308) takes the exact test
-        if math.isfinite(np.add.reduce(value, axis=None)):
+        # one pass proves every angle finite; only its failure (a bad angle, or a sum or a
+        # square past 1e308) takes the exact test
+        if finite(value):
             return value
         if not np.isfinite(value).all():
-            finite = np.isfinite(value)
-            idx = np.unravel_index(int(np.argmin(finite)), value.shape)
+            ok = np.isfinite(value)
+            idx = np.unravel_index(int(np.argmin(ok)), value.shape)
             raise MechanismError(
                 f"{name} must be finite (rad), got {value[idx]} at index "
                 f"{tuple(int(i) for i in idx)}"

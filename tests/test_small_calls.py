@@ -186,3 +186,45 @@ def test_finite_test_of_ops():
     p = PointJet(0.0 * y, y, 0.0 * y, 0.0 * y, 0.0 * y, 1e200 + 0.0 * y)
     _, s, _ = dyad_rrp(p, 1.0, phi=np.array([0.1, 0.2]))
     assert np.all(np.isfinite(s.d2)) and np.min(np.abs(s.d2)) > 1e199
+
+
+def test_one_design_batches_as_many():
+    """A batch of one design (checked and sorted on numbers) gives what a batch of several
+    gives for it, refuses what the batch refuses, and builds every field."""
+    from mechsynth.kinematics import compiled
+
+    phi = ms.cycle(24)
+    for fn, dims in (
+        (compiled.four_bar_batch, (1.0, 4.3, 3.0, 5.2)),
+        (compiled.slider_crank_batch, (0.07, 0.24, 0.01)),
+    ):
+        for speed in (None, 3.0):
+            one = fn(*dims, phi, speed=speed)
+            two = fn(*(np.array([x, 1.1 * x]) for x in dims), phi, speed=speed)
+            cls = type(one)
+            assert list(vars(one)) == [f.name for f in dataclasses.fields(cls)]
+            for f in cls._fields:
+                np.testing.assert_array_equal(getattr(one, f)[0], getattr(two, f)[0])
+            with pytest.raises(dataclasses.FrozenInstanceError):
+                one.backend = "x"
+    for bad in ((1.0, 1.0, 1.0, 5.2), (1.0, np.nan, 3.0, 5.2), (-1.0, 4.3, 3.0, 5.2)):
+        with pytest.raises(MechanismError):
+            compiled.four_bar_batch(*bad, phi)
+    with pytest.raises(MechanismError):
+        compiled.four_bar_batch(1.0, 1.0, 1.0, 5.2, phi, full_turn=False)  # cannot assemble
+    r = compiled.four_bar_batch(2.0, 2.5, 1.0, 3.0, np.array([1.0]), full_turn=False)
+    assert np.isfinite(r.rocker_epsilon).all()  # a crank that does not turn fully, assembled
+    for bad in ((0.1, 0.1, 0.0), (0.1, 0.3, 0.25), (0.1, 0.3, np.inf), (0.0, 0.3, 0.0)):
+        with pytest.raises(MechanismError):
+            compiled.slider_crank_batch(*bad, phi)
+    # the designs sent to the numpy model near a toggle: the same on numbers as on arrays
+    for near, p, grid in (
+        (compiled._slider_crank_near, (0.1, 0.1 + 1e-11, 0.0), ()),
+        (compiled._slider_crank_near, (0.1, 0.3, 0.05), ()),
+        (compiled._four_bar_near, (1.0, 3.0, 3.0, 5.0), (1.0, -1.0)),
+        (compiled._four_bar_near, (1.0, 4.3, 3.0, 5.2), (1.0, -1.0)),
+    ):
+        names = ("crank", "b", "c", "d")[: len(p)]
+        one = compiled._rows(near, {k: np.array([x]) for k, x in zip(names, p)}, *grid)
+        two = compiled._rows(near, {k: np.array([x, x]) for k, x in zip(names, p)}, *grid)
+        np.testing.assert_array_equal(np.concatenate([one, one + 1]), two)

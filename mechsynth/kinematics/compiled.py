@@ -55,6 +55,7 @@ import threading
 import types
 from dataclasses import dataclass
 from functools import cache
+from typing import ClassVar
 
 import numpy as np
 
@@ -99,6 +100,11 @@ class FourBarBatch:
     coupler_epsilon: np.ndarray
     backend: str
 
+    _fields: ClassVar[tuple[str, ...]] = (
+        "rocker_angle", "rocker_omega", "rocker_epsilon",
+        "coupler_angle", "coupler_omega", "coupler_epsilon",
+    )  # fmt: skip
+
 
 @dataclass(frozen=True)
 class SliderCrankBatch:
@@ -116,6 +122,10 @@ class SliderCrankBatch:
     rod_omega: np.ndarray
     rod_epsilon: np.ndarray
     backend: str
+
+    _fields: ClassVar[tuple[str, ...]] = (
+        "position", "velocity", "acceleration", "rod_angle", "rod_omega", "rod_epsilon",
+    )  # fmt: skip
 
 
 @cache
@@ -243,10 +253,8 @@ def four_bar_batch(
         # |AO2|^2 over the grid lies between its values at the largest and smallest cos(phi);
         # designs whose |AO2| comes near |coupler - rocker| or coupler + rocker (toggle, or no
         # assembly) are recomputed by the numpy model, which raises for them if it must.
-        rho2_min = a * a + d * d - 2.0 * a * d * cphi.max(initial=-1.0)
-        rho2_max = a * a + d * d - 2.0 * a * d * cphi.min(initial=1.0)
-        near = (rho2_min <= (b - c) ** 2 * (1 + 1e-9)) | (rho2_max >= (b + c) ** 2 * (1 - 1e-9))
-        _numpy_rows(model, np.flatnonzero(near), out)
+        cmax, cmin = cphi.max(initial=-1.0), cphi.min(initial=1.0)
+        _numpy_rows(model, _rows(_four_bar_near, p, cmax, cmin), out)
     return _scaled(FourBarBatch, out, speed, backend)
 
 
@@ -285,9 +293,35 @@ def slider_crank_batch(
         a, b, e = p["crank"], p["rod"], p["offset"]
         cphi, sphi = ops.cos_sin(phi)
         _kernel("slider_crank", a.size * phi.size)(a, b, e, cphi, sphi, out)
-        # rods within round-off of crank + |offset| (near a toggle) go to the numpy model
-        _numpy_rows(model, np.flatnonzero(b * b - (a + np.abs(e)) ** 2 <= 1e-9 * b * b), out)
+        _numpy_rows(model, _rows(_slider_crank_near, p), out)
     return _scaled(SliderCrankBatch, out, speed, backend)
+
+
+def _four_bar_near(a, b, c, d, cmax, cmin):
+    """True for four-bars to recompute with the numpy model: |AO2|^2 over the grid lies between
+    its values at the largest and smallest cos(phi) (``cmax``, ``cmin``); designs whose |AO2|
+    comes near |coupler - rocker| or coupler + rocker (toggle, or no assembly) are recomputed by
+    the numpy model, which raises for them if it must."""
+    rho2_min = a * a + d * d - 2.0 * a * d * cmax
+    rho2_max = a * a + d * d - 2.0 * a * d * cmin
+    return (rho2_min <= (b - c) ** 2 * (1 + 1e-9)) | (rho2_max >= (b + c) ** 2 * (1 - 1e-9))
+
+
+def _slider_crank_near(a, b, e):
+    """True for slider-cranks to recompute with the numpy model: rods within round-off of
+    crank + |offset| (near a toggle)."""
+    return b * b - (a + abs(e)) ** 2 <= 1e-9 * b * b
+
+
+def _rows(near, p, *grid):
+    """The designs (indices) for which ``near(*parameters, *grid)`` holds. One design is tested
+    on numbers: numpy's cost per call would be most of a one-design batch's time."""
+    if len(p["crank"]) == 1:
+        return _ONE if near(*(float(v[0]) for v in p.values()), *grid) else _NONE
+    return np.flatnonzero(near(*p.values(), *grid))
+
+
+_ONE, _NONE = np.zeros(1, dtype=np.intp), np.zeros(0, dtype=np.intp)
 
 
 def _check_four_bars(p, branch, full_turn):
@@ -295,7 +329,13 @@ def _check_four_bars(p, branch, full_turn):
     passes; the class itself is built (it raises with its message) only if one fails."""
     a, b, c, d = p["crank"], p["coupler"], p["rocker"], p["ground"]
     ok = branch in ("open", "crossed") and _valid_lengths(a, b, c, d)
-    if ok and full_turn:
+    if ok and len(a) == 1:  # one design: the same tests on numbers (finite, checked above)
+        a, b, c, d = float(a[0]), float(b[0]), float(c[0]), float(d[0])
+        if full_turn:
+            ok = a + d < b + c and abs(d - a) > abs(b - c)
+        else:
+            ok = 2 * max(a, b, c, d) < a + b + c + d
+    elif ok and full_turn:
         ok = bool(np.all(a + d < b + c)) and bool(np.all(np.abs(d - a) > np.abs(b - c)))
     elif ok:
         longest = np.maximum(np.maximum(a, b), np.maximum(c, d))
@@ -307,8 +347,13 @@ def _check_four_bars(p, branch, full_turn):
 def _check_slider_cranks(p):
     """The checks of :class:`SliderCrank` over the ``(n,)`` arrays (as :func:`_check_four_bars`)."""
     a, b, e = p["crank"], p["rod"], p["offset"]
-    ok = _valid_lengths(a, b) and bool(np.all(np.abs(e) < np.inf))
-    if not (ok and bool(np.all(b > a + np.abs(e)))):
+    if len(a) == 1:  # one design: the same tests on numbers
+        a, b, e = float(a[0]), float(b[0]), float(e[0])
+        ok = 0.0 < a < math.inf and 0.0 < b < math.inf and abs(e) < math.inf and b > a + abs(e)
+    else:
+        ok = _valid_lengths(a, b) and bool(np.all(np.abs(e) < np.inf))
+        ok = ok and bool(np.all(b > a + np.abs(e)))
+    if not ok:
         SliderCrank(**p)  # raises, naming the condition
 
 
@@ -351,7 +396,12 @@ def _scaled(cls, out, speed, backend):
     if w != 1.0:
         out[[1, 4]] *= w
         out[[2, 5]] *= w * w
-    return cls(*out, backend=backend)
+    # ``cls(*out, backend=backend)`` without the frozen dataclass's ``__init__`` (one
+    # ``object.__setattr__`` per field: for one design a good part of the call)
+    res = object.__new__(cls)
+    res.__dict__.update(zip(cls._fields, (out[0], out[1], out[2], out[3], out[4], out[5])))
+    res.__dict__["backend"] = backend
+    return res
 
 
 # ------------------------------------------------------------------------------- kernels

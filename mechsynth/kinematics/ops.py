@@ -7,9 +7,9 @@ whose exact derivatives feed IPOPT. Dispatch is by argument type; numpy is the f
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
+
+from ..validate import finite  # noqa: F401  (the blocks' one-pass finite test)
 
 __all__ = [
     "is_symbolic",
@@ -51,17 +51,6 @@ def is_zero(x) -> bool:
     """True if ``x`` is the number 0 (not an array, not a symbol): lets a block skip the work a
     zero parameter makes void (a guide along +x needs no rotation into its frame)."""
     return (type(x) is float or type(x) is int) and x == 0
-
-
-def finite(x) -> bool:
-    """True if every entry of the float array ``x`` is finite, in one pass: its sum is finite,
-    or for up to 8,192 entries (one design's grid of angles) its dot product with itself (a
-    BLAS call, quicker there than a sum; BLAS may thread a longer one). False also for a sum
-    or a square that overflows (entries past about 1e154): a caller then tests entry by
-    entry."""
-    if x.size <= 8192:
-        return math.isfinite(np.vdot(x, x))
-    return math.isfinite(np.add.reduce(x, axis=None))
 
 
 def zeros_like(x):
