@@ -268,13 +268,17 @@ class FourBar(Mechanism):
             self.sigma,
             phi,
         )
-        # the frame pivots' and the crank's tracks are constants: made, not computed
+        # the frame pivots' and the crank's tracks are constants: made, not computed (the
+        # zeros in one allocation: the pivots' eleven and, without a crank acceleration, the
+        # crank's)
+        z = ops.zero_rows(a.x, 12)
         crank = LinkTrack.of(
-            ops.plus(0.0 * self.crank, phi), ops.full_like(a.x, omega), ops.full_like(a.x, eps)
+            ops.plus(0.0 * self.crank, phi),
+            ops.full_like(a.x, omega),
+            z[11] if type(eps) is float and eps == 0.0 else ops.full_like(a.x, eps),
         )
-        z = ops.zero_rows(a.x, 11)
         o1 = PointTrack.of(*z[:6])
-        o2 = PointTrack.of(ops.full_like(a.x, self.ground), *z[6:])
+        o2 = PointTrack.of(ops.full_like(a.x, self.ground), *z[6:11])
         points = {"O1": o1, "A": a, "B": b, "O2": o2}
         for name, (u, v) in (coupler_points or {}).items():
             points[name] = coupler_point(a, coupler, u, v)

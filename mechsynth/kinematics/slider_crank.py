@@ -144,11 +144,15 @@ class SliderCrank(Mechanism):
         ):  # fmt: skip
             guard_motion({"crank": cr, "rod": rd, "offset": e}, phi, omega, eps)
         a, b, s, rod = slider_crank_chain(*ops.cos_sin(phi), self.crank, self.rod, self.offset, phi)
-        # the crank pivot's and the crank's tracks are constants: made, not computed
+        # the crank pivot's and the crank's tracks are constants: made, not computed (the
+        # zeros in one allocation: O's six and, without a crank acceleration, the crank's)
+        z = ops.zero_rows(a.x, 7)
         crank = LinkTrack.of(
-            ops.plus(0.0 * self.crank, phi), ops.full_like(a.x, omega), ops.full_like(a.x, eps)
+            ops.plus(0.0 * self.crank, phi),
+            ops.full_like(a.x, omega),
+            z[6] if type(eps) is float and eps == 0.0 else ops.full_like(a.x, eps),
         )
-        points = {"O": PointTrack.of(*ops.zero_rows(a.x, 6)), "A": a, "B": b}
+        points = {"O": PointTrack.of(*z[:6]), "A": a, "B": b}
         for name, (u, v) in (coupler_points or {}).items():
             points[name] = coupler_point(a, rod, u, v)
         # the rod's angle from the guide is within (-pi/2, pi/2) (B ahead of A): its size is
