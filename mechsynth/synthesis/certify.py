@@ -9,6 +9,7 @@ the angles to add to the grid when the grid missed the peak (DESIGN principle 3)
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -43,25 +44,29 @@ def _q(atom, mechanism, speed, phi):
     return np.asarray(atom.q(mechanism, motion), dtype=float)
 
 
-_GOLDEN = 0.5 * (3.0 - 5.0**0.5)
-_SQRT_EPS = float(np.sqrt(np.finfo(float).eps))
+_GOLDEN = 0.5 * (3.0 - math.sqrt(5.0))
+_SQRT_EPS = math.sqrt(2.2e-16)  # scipy's constant (not quite sqrt(machine epsilon))
 
 
-def _local_min(f, a, b, xatol=1e-11, maxiter=500):
+def _local_min(f, a, b, xatol=1e-11, maxfun=500):
     """A local minimum of ``f`` on ``[a, b]``: Brent's method (golden sections and parabolic
     steps), ended when the bracket is within ``xatol`` (plus ``sqrt(eps) |x|``) of its best
-    point. Returns ``(x, f(x))``. (In place of ``scipy.optimize.minimize_scalar(method=
-    "bounded")``, whose import costs more than a whole certified solve.)"""
-    x = w = v = a + _GOLDEN * (b - a)
+    point or after ``maxfun`` evaluations. Returns ``(x, f(x))``.
+
+    Step for step ``scipy.optimize.minimize_scalar(f, bounds=(a, b), method="bounded",
+    options={"xatol": xatol})`` (the same points, bit for bit; tested), whose import costs more
+    than a whole certified solve.
+    """
+    x = w = v = a + _GOLDEN * (b - a)  # x best, w second best, v the one before
     fx = fw = fv = f(x)
     d = e = 0.0
-    for _ in range(maxiter):
-        m = 0.5 * (a + b)
-        tol = _SQRT_EPS * abs(x) + xatol / 3.0
-        if abs(x - m) <= 2.0 * tol - 0.5 * (b - a):
-            break
-        parabolic = False
+    num = 1
+    m = 0.5 * (a + b)
+    tol = _SQRT_EPS * abs(x) + xatol / 3.0
+    while abs(x - m) > 2.0 * tol - 0.5 * (b - a):
+        golden = True
         if abs(e) > tol:  # the parabola through x, w, v
+            golden = False
             r = (x - w) * (fx - fv)
             q = (x - v) * (fx - fw)
             p = (x - v) * q - (x - w) * r
@@ -69,21 +74,25 @@ def _local_min(f, a, b, xatol=1e-11, maxiter=500):
             if q > 0.0:
                 p = -p
             q = abs(q)
-            if abs(p) < abs(0.5 * q * e) and q * (a - x) < p < q * (b - x):
-                e, d = d, p / q
-                parabolic = True
-                if (x + d) - a < 2.0 * tol or b - (x + d) < 2.0 * tol:
-                    d = tol if x < m else -tol
-        if not parabolic:  # a golden section of the larger part
-            e = (b - x) if x < m else (a - x)
-            d = _GOLDEN * e
-        u = x + (d if abs(d) >= tol else (tol if d > 0 else -tol))
-        fu = f(u)
-        if fu <= fx:
-            if u < x:
-                b = x
+            r, e = e, d
+            if abs(p) < abs(0.5 * q * r) and p > q * (a - x) and p < q * (b - x):
+                d = (p + 0.0) / q
+                u = x + d
+                if (u - a) < 2.0 * tol or (b - u) < 2.0 * tol:
+                    d = tol if m >= x else -tol
             else:
+                golden = True
+        if golden:  # a golden section of the larger part
+            e = (a - x) if x >= m else (b - x)
+            d = _GOLDEN * e
+        u = x + (-1.0 if d < 0 else 1.0) * max(abs(d), tol)
+        fu = f(u)
+        num += 1
+        if fu <= fx:
+            if u >= x:
                 a = x
+            else:
+                b = x
             v, fv, w, fw, x, fx = w, fw, x, fx, u, fu
         else:
             if u < x:
@@ -94,6 +103,10 @@ def _local_min(f, a, b, xatol=1e-11, maxiter=500):
                 v, fv, w, fw = w, fw, u, fu
             elif fu <= fv or v == x or v == w:
                 v, fv = u, fu
+        m = 0.5 * (a + b)
+        tol = _SQRT_EPS * abs(x) + xatol / 3.0
+        if num >= maxfun:
+            break
     return x, fx
 
 
