@@ -95,3 +95,28 @@ def test_a_certified_solve_loads_only_casadi_and_scipy_core():
     assert "casadi" in loaded
     bad = ("scipy.stats", "scipy.optimize", "scipy.integrate", "tqdm", "numba", "matplotlib")
     assert [m for m in loaded if m.startswith(bad)] == []
+
+
+def test_the_synthesis_layer_loads_charts_convex_and_pareto_on_first_use():
+    # a solve needs the problem, its result and the solvers, not the charts' file formats
+    code = (
+        "import json, sys\n"
+        "import mechsynth.synthesis as syn\n"
+        "before = sorted(m for m in sys.modules if m.startswith('mechsynth.synthesis.'))\n"
+        "from mechsynth.synthesis import sweep, minimax_cycle, pareto_front, load_linkage\n"
+        "from mechsynth.synthesis import charts, convex, pareto, linkage_file\n"
+        "ok = [sweep is charts.sweep, minimax_cycle is convex.minimax_cycle,\n"
+        "      pareto_front is pareto.pareto_front, load_linkage is linkage_file.load_linkage,\n"
+        "      set(syn.__all__) <= set(dir(syn))]\n"
+        "print(json.dumps([before, ok]))\n"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True
+    ).stdout
+    before, ok = json.loads(out.strip().splitlines()[-1])
+    assert not {"charts", "convex", "pareto", "linkage_file"} & {m.split(".")[-1] for m in before}
+    assert ok == [True] * 5
+    import mechsynth.synthesis as syn
+
+    with pytest.raises(AttributeError, match="no attribute 'nonesuch'"):
+        syn.nonesuch  # noqa: B018
