@@ -30,6 +30,22 @@ def test_a_generator_seed_is_handed_to_scipy():
     assert np.array_equal(a, b)
 
 
+def test_the_leading_rows_of_an_archived_array(tmp_path):
+    # scipy's file holds a 1-D and a Fortran-ordered array; the reader takes C order as well
+    import zipfile
+
+    from mechsynth.synthesis.sobol import _leading
+
+    a = np.arange(7 * 5, dtype=np.int64).reshape(7, 5) * 3 - 40
+    np.savez_compressed(tmp_path / "x.npz", c=a, f=np.asfortranarray(a), v=a[:, 0])
+    with zipfile.ZipFile(tmp_path / "x.npz") as zf:
+        for rows in (1, 3, 7):
+            assert np.array_equal(_leading(zf, "c.npy", rows), a[:rows])
+            assert np.array_equal(_leading(zf, "f.npy", rows), a[:rows])
+            assert np.array_equal(_leading(zf, "f.npy", rows, 2), a[:rows, :2])
+            assert np.array_equal(_leading(zf, "v.npy", rows), a[:rows, 0])
+
+
 def test_balance_of_a_power_of_two():
     # every dyadic interval of length 1/n holds one point per coordinate
     pts = sobol(4, 64, 0)

@@ -10,8 +10,10 @@ point (the shift) first. Where the data file is not found, scipy draws them.
 
 from __future__ import annotations
 
+import functools
 import importlib.util
 import os
+import zipfile
 
 import numpy as np
 
@@ -20,19 +22,63 @@ __all__ = ["sobol"]
 BITS = 30  # scipy's default
 
 
-def _direction_data():
-    """``(poly, vinit)`` from scipy's data file, or None when it is not where expected."""
+def _data_path():
+    """scipy's file of direction numbers, or None when it is not where expected."""
     spec = importlib.util.find_spec("scipy")
     for root in (spec.submodule_search_locations or []) if spec else []:
         path = os.path.join(root, "stats", "_sobol_direction_numbers.npz")
         if os.path.isfile(path):
-            with np.load(path) as f:
-                return f["poly"], f["vinit"]
+            return path
     return None
 
 
-def _directions(d, poly, vinit):
-    """The ``d x BITS`` direction numbers, column ``j`` scaled by ``2**(BITS - 1 - j)``."""
+def _leading(zf, name, rows, cols=None):
+    """The first ``rows`` rows (and ``cols`` columns) of the array ``name`` of the npz archive
+    ``zf``, decompressing only the start of it (all of it is 3 MB, some 7 ms a solve)."""
+    fmt = np.lib.format
+    with zf.open(name) as fh:
+        version = fmt.read_magic(fh)
+        read_header = {(1, 0): fmt.read_array_header_1_0, (2, 0): fmt.read_array_header_2_0}
+        shape, fortran, dtype = read_header[version](fh)
+        if len(shape) == 1:
+            return np.frombuffer(fh.read(rows * dtype.itemsize), dtype=dtype)
+        n, m = shape
+        cols = m if cols is None else min(cols, m)
+        if not fortran:  # rows one after another
+            return np.frombuffer(fh.read(rows * m * dtype.itemsize), dtype=dtype).reshape(rows, m)
+        # columns one after another: the first ``cols`` of them
+        flat = np.frombuffer(fh.read(cols * n * dtype.itemsize), dtype=dtype)
+        return flat.reshape(cols, n).T[:rows]
+
+
+@functools.lru_cache(maxsize=32)
+def _direction_data(d):
+    """``(poly, vinit)`` of the first ``d`` dimensions from scipy's data file (``vinit`` up to
+    the largest degree among them), or None when the file is not where expected."""
+    path = _data_path()
+    if path is None:
+        return None
+    try:
+        with zipfile.ZipFile(path) as zf:
+            poly = _leading(zf, "poly.npy", d)
+            degree = max(int(p).bit_length() - 1 for p in poly)
+            vinit = _leading(zf, "vinit.npy", d, max(degree, 1))
+    except (KeyError, ValueError, OSError, zipfile.BadZipFile):  # another layout: all of it
+        with np.load(path) as f:
+            poly, vinit = f["poly"][:d], f["vinit"][:d]
+    if len(poly) < d:
+        return None
+    return poly, vinit
+
+
+@functools.lru_cache(maxsize=32)
+def _directions(d):
+    """The ``d x BITS`` direction numbers, column ``j`` scaled by ``2**(BITS - 1 - j)`` (read
+    only), or None without the data file."""
+    data = _direction_data(d)
+    if data is None:
+        return None
+    poly, vinit = data
     v = [[1] * BITS]
     for k in range(1, d):
         p = int(poly[k])
@@ -45,7 +91,9 @@ def _directions(d, poly, vinit):
                     new ^= row[j - i - 1] << (i + 1)
             row[j] = new
         v.append(row)
-    return np.array(v, dtype=np.uint64) << np.arange(BITS - 1, -1, -1, dtype=np.uint64)
+    v = np.array(v, dtype=np.uint64) << np.arange(BITS - 1, -1, -1, dtype=np.uint64)
+    v.flags.writeable = False
+    return v
 
 
 def _scramble(v, rng):
@@ -69,12 +117,12 @@ def sobol(d: int, n: int, seed=None) -> np.ndarray:
     """``n`` scrambled Sobol' points in ``[0, 1)^d`` (``n x d``), equal to
     ``scipy.stats.qmc.Sobol(d, scramble=True, seed=seed).random(n)``; ``seed`` an int, None or a
     ``numpy.random.Generator`` (then scipy's draws are matched only for an int or None)."""
-    data = _direction_data()
-    if data is None or not isinstance(seed, (int, np.integer, type(None))):
+    ours = d >= 1 and isinstance(seed, (int, np.integer, type(None)))
+    v = _directions(int(d)) if ours else None
+    if v is None:
         from scipy.stats import qmc
 
         return qmc.Sobol(d=d, scramble=True, seed=seed).random(n)
-    v = _directions(d, *data)
     shift, v = _scramble(v, np.random.default_rng(seed))
     # point i+1 = point i XOR the direction of the lowest zero bit of i (Gray code)
     i = np.arange(max(n - 1, 0), dtype=np.uint64)
