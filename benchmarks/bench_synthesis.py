@@ -11,7 +11,7 @@ Problems:
   offset +-100 mm).
 
 Reported for each: one certified IPOPT start and the default 8 starts, the first solve of a new
-Problem (it builds the CasADi transcription and solver; scipy already imported) and the median
+Problem (it builds the CasADi transcription and solver; CasADi already imported) and the median
 of repeated solves (the solver is cached on the Problem), with the IPOPT iterations of every start
 (``Result.certification.iterations``) and of the re-solves after grid refinement; for the
 slider-crank also differential evolution with and without the certified polish.
@@ -19,8 +19,11 @@ slider-crank also differential evolution with and without the certified polish.
 ``--iterations`` prints the IPOPT iterations of every reference problem
 (:mod:`mechsynth.synthesis.reference`) and every example problem file
 (``examples/optimize_*.toml``) with their solve options; ``--options '{"mu_max": 1e5}'`` passes
-IPOPT options to every solve, to compare settings. ``--fresh`` times a single-start solve in a
-new interpreter (imports included).
+IPOPT options to every solve, to compare settings. ``--fresh`` times ``import mechsynth``, the
+Problem's statements and its first and second solve (1 start and the default 8) in a new
+interpreter each, as a script meets them (imports and the CasADi build included); the figures
+depend on whether Python finds the package's bytecode cached (an installed package: yes; a
+checkout under ``PYTHONDONTWRITEBYTECODE``: no, each module compiled again), which is printed.
 
 Run: python benchmarks/bench_synthesis.py [--repeat N] [--iterations] [--options JSON] [--fresh]
 """
@@ -147,7 +150,7 @@ def iteration_table(options=None):
 
 
 FRESH = """
-import time
+import sys, time
 t0 = time.perf_counter()
 import mechsynth as ms
 from mechsynth import objectives as ob
@@ -156,28 +159,45 @@ prob = ms.Problem(ms.FourBar, variables={"crank": (0.05, 0.5), "coupler": (0.3, 
                   "rocker": (0.3, 1.5)}, fixed={"ground": 1.0})
 prob.maximize(ob.min_transmission_angle())
 prob.subject_to(ob.swing_angle("rocker") == ms.deg(40), ob.time_ratio() == 1.0)
-res = prob.solve(starts=1, progress=False)
 t2 = time.perf_counter()
-res = prob.solve(starts=1, progress=False)
+res = prob.solve(starts=int(sys.argv[1]), progress=False)
 t3 = time.perf_counter()
-print(t1 - t0, t2 - t1, t3 - t2, res.status)
+res = prob.solve(starts=int(sys.argv[1]), progress=False)
+t4 = time.perf_counter()
+print(t1 - t0, t2 - t1, t3 - t2, t4 - t3, res.status)
 """
 
 
 def fresh(repeat=3):
-    """Import time, first and second single-start crank-rocker solve in a new interpreter."""
-    out = []
-    for _ in range(repeat):
-        r = subprocess.run(
-            [sys.executable, "-c", FRESH], capture_output=True, text=True, check=True, cwd=ROOT
+    """Per start count (1, 8): the lowest and highest over ``repeat`` new interpreters of the
+    import, the Problem's statements, its first and its second solve (s)."""
+    import os
+
+    cached = not (sys.dont_write_bytecode or os.environ.get("PYTHONDONTWRITEBYTECODE"))
+    print(f"new interpreter ({repeat} runs; bytecode {'cached' if cached else 'not cached'}):")
+    table = {}
+    for starts in (1, 8):
+        out = []
+        for _ in range(repeat):
+            r = subprocess.run(
+                [sys.executable, "-c", FRESH, str(starts)],
+                capture_output=True,
+                text=True,
+                check=True,
+                cwd=ROOT,
+            )
+            *times, status = r.stdout.split()
+            assert status == "optimal", status
+            out.append([float(v) for v in times])
+        cols = [(min(c), max(c)) for c in zip(*out)]
+        table[starts] = cols
+        (i0, i1), (b0, b1), (f0, f1), (s0, s1) = cols
+        print(
+            f"  {starts} start{'s' if starts > 1 else ' '}: import mechsynth {i0:.3f}-{i1:.3f} s, "
+            f"Problem {b0:.3f}-{b1:.3f} s, first solve {f0:.3f}-{f1:.3f} s (CasADi's import "
+            f"and build included), second {s0:.3f}-{s1:.3f} s"
         )
-        out.append([float(v) for v in r.stdout.split()[:3]])
-    imp, first, second = (statistics.median(col) for col in zip(*out))
-    print(
-        f"new interpreter: import mechsynth {imp:.3f} s, first single-start crank-rocker solve "
-        f"{first:.3f} s (imports of scipy and the CasADi build included), second {second:.3f} s"
-    )
-    return imp, first, second
+    return table
 
 
 def main(argv=None):
@@ -191,10 +211,9 @@ def main(argv=None):
         return iteration_table(args.options)
 
     rep = args.repeat
-    # the first solve in a process imports scipy's optimizers and samplers (--fresh times
-    # that); the "first" column is a new Problem's first solve: its CasADi build included
-    import scipy.optimize  # noqa: F401
-    import scipy.stats  # noqa: F401
+    # the first solve in a process imports CasADi (--fresh times that); the "first" column is
+    # a new Problem's first solve: its CasADi build included
+    import casadi  # noqa: F401
 
     print("crank-rocker transmission angle (3 variables):")
     solve_times(
