@@ -120,3 +120,24 @@ def test_the_synthesis_layer_loads_charts_convex_and_pareto_on_first_use():
 
     with pytest.raises(AttributeError, match="no attribute 'nonesuch'"):
         syn.nonesuch  # noqa: B018
+
+
+def test_the_force_measures_load_the_dynamics_layer_on_first_use():
+    code = (
+        "import json, sys\n"
+        "from mechsynth import objectives as ob\n"
+        "before = [m for m in sys.modules if m.startswith('mechsynth.dynamics')]\n"
+        "from mechsynth.objectives import forces\n"
+        "ok = [ob.peak_torque is forces.peak_torque, ob.rms_torque is forces.rms_torque,\n"
+        "      set(ob.__all__) <= set(dir(ob))]\n"
+        "print(json.dumps([before, ok]))\n"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True
+    ).stdout
+    before, ok = json.loads(out.strip().splitlines()[-1])
+    assert before == [] and ok == [True] * 3
+    from mechsynth import objectives as ob
+
+    with pytest.raises(AttributeError, match="no attribute 'nonesuch'"):
+        ob.nonesuch  # noqa: B018

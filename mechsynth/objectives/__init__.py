@@ -1,13 +1,14 @@
-"""Measures that reduce a mechanism's cycle to a number: objectives and constraints."""
+"""Measures that reduce a mechanism's cycle to a number: objectives and constraints.
+
+The force measures load on first use of one of their names (they import the dynamics layer,
+which a kinematic problem does not need).
+"""
+
+from __future__ import annotations
+
+import importlib
 
 from .base import Combination, Constraint, CycleMeasure, Measure, ScalarMeasure, reduce_cycle
-from .forces import (
-    peak_driving_force,
-    peak_reaction,
-    peak_torque,
-    reaction_affine_map,
-    rms_torque,
-)
 from .kinematic import (
     KINEMATIC_MEASURES,
     assembly_margin,
@@ -38,10 +39,25 @@ __all__ += [
     "assembly_margin",
     "KINEMATIC_MEASURES",
 ]
-__all__ += [
-    "peak_reaction",
-    "peak_torque",
-    "peak_driving_force",
-    "rms_torque",
-    "reaction_affine_map",
-]
+
+#: public name -> submodule that defines it (imported on first access)
+_LAZY = {
+    "peak_reaction": "forces",
+    "peak_torque": "forces",
+    "peak_driving_force": "forces",
+    "rms_torque": "forces",
+    "reaction_affine_map": "forces",
+}
+__all__ += list(_LAZY)
+
+
+def __getattr__(name: str):
+    if name not in _LAZY:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{_LAZY[name]}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))
