@@ -17,6 +17,7 @@ from __future__ import annotations
 import importlib
 
 from .errors import MechanismError, SolverError
+from .lazy import lazy_names as _lazy_names
 from .units import cycle, deg, dms, inch, rpm, spm, to_deg, to_inch, to_rpm
 
 __version__ = "0.1.0"
@@ -70,19 +71,7 @@ def load_registrations() -> None:
         importlib.import_module(f"{__name__}.{name}")
 
 
-def __getattr__(name: str):
-    if name in _LAZY:
-        value = getattr(importlib.import_module(f"{__name__}.{_LAZY[name]}"), name)
-    elif name in _SUBPACKAGES:
-        value = importlib.import_module(f"{__name__}.{name}")
-    else:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(_LAZY) | set(_SUBPACKAGES))
+__getattr__, __dir__ = _lazy_names(globals(), _LAZY, _SUBPACKAGES)
 
 
 __all__ = [

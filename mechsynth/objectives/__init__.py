@@ -6,8 +6,7 @@ which a kinematic problem does not need).
 
 from __future__ import annotations
 
-import importlib
-
+from ..lazy import lazy_names as _lazy_names
 from .base import Combination, Constraint, CycleMeasure, Measure, ScalarMeasure, reduce_cycle
 from .kinematic import (
     KINEMATIC_MEASURES,
@@ -51,13 +50,4 @@ _LAZY = {
 __all__ += list(_LAZY)
 
 
-def __getattr__(name: str):
-    if name not in _LAZY:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"{__name__}.{_LAZY[name]}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY))
+__getattr__, __dir__ = _lazy_names(globals(), _LAZY)

@@ -6,8 +6,7 @@ The charts, the convex minimax and the Pareto fronts load on first use of one of
 
 from __future__ import annotations
 
-import importlib
-
+from ..lazy import lazy_names as _lazy_names
 from .problem import Problem
 from .result import STATUSES, Certification, ConstraintValue, Result
 
@@ -29,13 +28,4 @@ _LAZY = {
 __all__ += list(_LAZY)
 
 
-def __getattr__(name: str):
-    if name not in _LAZY:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"{__name__}.{_LAZY[name]}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY))
+__getattr__, __dir__ = _lazy_names(globals(), _LAZY)
