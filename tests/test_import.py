@@ -26,6 +26,14 @@ def _loaded(code: str) -> list[str]:
     return sorted(m for m in modules if m.split(".")[0] in HEAVY)
 
 
+def _last_json(code: str):
+    """The JSON that ``code`` prints last, run in a fresh interpreter."""
+    out = subprocess.run(
+        [sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True
+    ).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
 def test_package_import_loads_no_heavy_module():
     assert _loaded("import mechsynth") == []
 
@@ -110,10 +118,7 @@ def test_the_synthesis_layer_loads_charts_convex_and_pareto_on_first_use():
         "      set(syn.__all__) <= set(dir(syn))]\n"
         "print(json.dumps([before, ok]))\n"
     )
-    out = subprocess.run(
-        [sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True
-    ).stdout
-    before, ok = json.loads(out.strip().splitlines()[-1])
+    before, ok = _last_json(code)
     assert not {"charts", "convex", "pareto", "linkage_file"} & {m.split(".")[-1] for m in before}
     assert ok == [True] * 5
     import mechsynth.synthesis as syn
@@ -132,10 +137,7 @@ def test_the_force_measures_load_the_dynamics_layer_on_first_use():
         "      set(ob.__all__) <= set(dir(ob))]\n"
         "print(json.dumps([before, ok]))\n"
     )
-    out = subprocess.run(
-        [sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True
-    ).stdout
-    before, ok = json.loads(out.strip().splitlines()[-1])
+    before, ok = _last_json(code)
     assert before == [] and ok == [True] * 3
     from mechsynth import objectives as ob
 
