@@ -170,9 +170,21 @@ def test_invalid_field_shows_its_message_and_recovers(page):
     assert "lower bound 90 mm is not below the upper bound 80 mm" in bound.inner_text()
 
 
+def _slow_solve(page, starts=400):
+    """Enough starts that the solve outlasts what the test does meanwhile (one start of the
+    reference problem takes some 20 ms in the worker)."""
+    page.get_by_text("Problem", exact=True).click()  # the tab that holds the solve's options
+    box = page.locator(".opt-starts input").first
+    box.fill(str(starts))
+    box.press("Enter")
+    page.get_by_text("Design", exact=True).click()
+    page.wait_for_timeout(300)
+
+
 def test_optimize_reaches_the_known_optimum_and_the_page_stays_live(page):
     from playwright.sync_api import expect
 
+    _slow_solve(page)
     page.get_by_role("button", name="Optimize").click()
     page.locator("#opt-state").get_by_text("solving").wait_for(timeout=20_000)
     # the page answers while the solver runs in its own process
@@ -192,6 +204,7 @@ def test_optimize_reaches_the_known_optimum_and_the_page_stays_live(page):
 
 
 def test_optimize_can_be_cancelled(page):
+    _slow_solve(page)
     page.get_by_role("button", name="Optimize").click()
     page.locator("#opt-state").get_by_text("solving").wait_for(timeout=20_000)
     page.get_by_role("button", name="Cancel").click()

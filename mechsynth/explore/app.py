@@ -290,7 +290,9 @@ class Explorer:
         self.method = _widget(
             pn.widgets.Select, "Method", options=["ipopt", "slsqp", "de"], width=100
         )
-        self.starts = _widget(pn.widgets.IntInput, "Starts", start=1, end=64, width=80)
+        self.starts = _widget(
+            pn.widgets.IntInput, "Starts", start=1, end=1000, width=80, css_classes=["opt-starts"]
+        )
         for w in (self.objective, self.sense, self.constraints, self.method, self.starts):
             w.param.watch(self._on_problem, "value")
         self.problem_msg = pn.pane.Alert(
