@@ -107,7 +107,7 @@ def test_an_inactive_stroke_bound_is_solved_again_with_the_stroke_held(monkeypat
             status="optimal" if first else "infeasible",
             value=30.0,
             variables={"OA": 0.012},
-            constraints=(SimpleNamespace(name="stroke(N) <= 0.04", value=0.03),),
+            constraints=(SimpleNamespace(name="stroke(N) <= 0.04", value=0.03, bound=0.04),),
             design=None,
             report=lambda: "certification: (stub)\n",
         )

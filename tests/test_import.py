@@ -59,10 +59,7 @@ def test_public_names_resolve_lazily():
         "missing = [n for n in ms.__all__ if getattr(ms, n, None) is None]\n"
         "print(json.dumps(missing))\n"
     )
-    out = subprocess.run(
-        [sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True
-    ).stdout
-    assert json.loads(out.strip().splitlines()[0]) == []
+    assert _last_json(code) == []
     import mechsynth as ms
 
     assert set(ms.__all__) <= set(dir(ms))

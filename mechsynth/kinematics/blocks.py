@@ -17,7 +17,6 @@ crank angle. Symbolic input is not checked (the optimizer's constraints keep it 
 from __future__ import annotations
 
 import functools
-import math
 from typing import NamedTuple
 
 import numpy as np
@@ -130,12 +129,7 @@ def _check_toggle(what, phi, *analogs):
     """Raise MechanismError where an analog is not finite: the dyad is at a toggle position (its
     links in line), where the velocity analogs are infinite or 0/0. Checked only for numeric
     input with the crank angles given."""
-    if phi is None or ops.is_symbolic(phi, *analogs):
-        return
-    total = 0.0
-    for x in analogs:
-        total += np.add.reduce(x, axis=None)
-    if math.isfinite(total):  # every analog finite (an inf or nan propagates into the sum)
+    if not _failed(phi, *analogs):  # every analog finite (or not checked here)
         return
     bad = ~np.isfinite(analogs[0])
     for x in analogs[1:]:

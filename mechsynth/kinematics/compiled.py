@@ -47,6 +47,7 @@ Examples
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import hashlib
 import marshal
 import math
@@ -55,7 +56,6 @@ import threading
 import types
 from dataclasses import dataclass
 from functools import cache
-from typing import ClassVar
 
 import numpy as np
 
@@ -100,11 +100,6 @@ class FourBarBatch:
     coupler_epsilon: np.ndarray
     backend: str
 
-    _fields: ClassVar[tuple[str, ...]] = (
-        "rocker_angle", "rocker_omega", "rocker_epsilon",
-        "coupler_angle", "coupler_omega", "coupler_epsilon",
-    )  # fmt: skip
-
 
 @dataclass(frozen=True)
 class SliderCrankBatch:
@@ -123,9 +118,12 @@ class SliderCrankBatch:
     rod_epsilon: np.ndarray
     backend: str
 
-    _fields: ClassVar[tuple[str, ...]] = (
-        "position", "velocity", "acceleration", "rod_angle", "rod_omega", "rod_epsilon",
-    )  # fmt: skip
+
+#: each batch class's array fields in the kernels' output order (for :func:`_scaled`)
+_FIELDS = {
+    cls: tuple(f.name for f in dataclasses.fields(cls) if f.name != "backend")
+    for cls in (FourBarBatch, SliderCrankBatch)
+}
 
 
 @cache
@@ -250,9 +248,7 @@ def four_bar_batch(
         cphi, sphi = ops.cos_sin(phi)
         a, b, c, d = p["crank"], p["coupler"], p["rocker"], p["ground"]
         _kernel("four_bar", a.size * phi.size)(a, b, c, d, cphi, sphi, sigma, out)
-        # |AO2|^2 over the grid lies between its values at the largest and smallest cos(phi);
-        # designs whose |AO2| comes near |coupler - rocker| or coupler + rocker (toggle, or no
-        # assembly) are recomputed by the numpy model, which raises for them if it must.
+        # designs near a toggle or an assembly limit: the numpy model (see _four_bar_near)
         cmax, cmin = cphi.max(initial=-1.0), cphi.min(initial=1.0)
         _numpy_rows(model, _rows(_four_bar_near, p, cmax, cmin), out)
     return _scaled(FourBarBatch, out, speed, backend)
@@ -399,7 +395,7 @@ def _scaled(cls, out, speed, backend):
     # ``cls(*out, backend=backend)`` without the frozen dataclass's ``__init__`` (one
     # ``object.__setattr__`` per field: for one design a good part of the call)
     res = object.__new__(cls)
-    res.__dict__.update(zip(cls._fields, (out[0], out[1], out[2], out[3], out[4], out[5])))
+    res.__dict__.update(zip(_FIELDS[cls], out))
     res.__dict__["backend"] = backend
     return res
 

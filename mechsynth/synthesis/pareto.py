@@ -378,9 +378,9 @@ def pareto_front(
                 inner = np.sort(eps)[:: -1 if senses[1] == "min" else 1]
             x0 = r1.variables
             for e in inner:
-                pe, re = solve(first, senses[0], float(e), x0=x0)
+                re, v = point(e, x0)
                 results.append(re)
-                vals.append(measured(pe, re))
+                vals.append(v)
                 eps_list.append(float(e))
                 if re.success:
                     x0 = re.variables

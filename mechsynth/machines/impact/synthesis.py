@@ -209,10 +209,10 @@ def synthesize(machine, starts=3, x0=None, **options) -> dict:
     prob, masses = impact_problem(machine, **options)
     t = time.perf_counter()
     res = prob.solve(starts=starts, progress=False, x0=x0)
-    required = float(options.get("stroke", 0.040))
     stroke_bound = "== stroke" if options.get("exact_stroke") else "not reached"
     if res.success and not options.get("exact_stroke"):
-        reached = next(c.value for c in res.constraints if c.name.startswith("stroke("))
+        c = next(c for c in res.constraints if c.name.startswith("stroke("))
+        required, reached = c.bound, c.value  # the certified stroke
         stroke_bound = "active"
         if reached < required * (1.0 - 1e-6):  # a shorter stroke gave more: hold it at the stroke
             prob, masses = impact_problem(machine, **{**options, "exact_stroke": True})
