@@ -72,13 +72,19 @@ def _point_track(x, y, vx, vy, ax, ay):
     return t
 
 
-def _scalar_track(cls, values):
-    """``cls(*values)`` for :class:`LinkTrack` and :class:`SliderTrack`, as
-    :func:`_point_track`."""
-    t = _new(cls)
-    a, b, c = cls._fields
+def _link_track(angle, omega, epsilon):
+    """``LinkTrack(angle, omega, epsilon)``, as :func:`_point_track`."""
+    t = _new(LinkTrack)
     d = t.__dict__
-    d[a], d[b], d[c] = values
+    d["angle"], d["omega"], d["epsilon"] = angle, omega, epsilon
+    return t
+
+
+def _slider_track(position, velocity, acceleration):
+    """``SliderTrack(position, velocity, acceleration)``, as :func:`_point_track`."""
+    t = _new(SliderTrack)
+    d = t.__dict__
+    d["position"], d["velocity"], d["acceleration"] = position, velocity, acceleration
     return t
 
 
@@ -97,10 +103,9 @@ class PointTrack:
     ax: Any
     ay: Any
 
-    @staticmethod
-    def of(x, y, vx, vy, ax, ay) -> PointTrack:
-        """``PointTrack(x, y, vx, vy, ax, ay)``, quicker (see :func:`_point_track`)."""
-        return _point_track(x, y, vx, vy, ax, ay)
+    #: ``PointTrack.of(x, y, vx, vy, ax, ay)``: ``PointTrack(x, y, vx, vy, ax, ay)``, quicker
+    #: (see :func:`_point_track`)
+    of = staticmethod(_point_track)
 
     @property
     def velocity(self):
@@ -143,16 +148,13 @@ class LinkTrack:
     omega: Any
     epsilon: Any
 
-    _fields: ClassVar[tuple[str, ...]] = ("angle", "omega", "epsilon")
-
-    @classmethod
-    def of(cls, angle, omega, epsilon) -> LinkTrack:
-        """``LinkTrack(angle, omega, epsilon)``, quicker (see :func:`_point_track`)."""
-        return _scalar_track(cls, (angle, omega, epsilon))
+    #: ``LinkTrack.of(angle, omega, epsilon)``: ``LinkTrack(angle, omega, epsilon)``, quicker
+    #: (see :func:`_point_track`)
+    of = staticmethod(_link_track)
 
     @classmethod
     def from_jet(cls, j: Jet, omega, epsilon) -> LinkTrack:
-        return _scalar_track(cls, to_time(j, omega, epsilon))
+        return _link_track(*to_time(j, omega, epsilon))
 
 
 @dataclass(frozen=True)
@@ -163,11 +165,9 @@ class SliderTrack:
     velocity: Any
     acceleration: Any
 
-    _fields: ClassVar[tuple[str, ...]] = ("position", "velocity", "acceleration")
-
     @classmethod
     def from_jet(cls, j: Jet, omega, epsilon) -> SliderTrack:
-        return _scalar_track(cls, to_time(j, omega, epsilon))
+        return _slider_track(*to_time(j, omega, epsilon))
 
 
 @dataclass(frozen=True)
@@ -210,25 +210,31 @@ class Motion:
         :class:`Jet`; a track given instead of a jet is taken as it is, e.g. a frame pivot's or
         the crank's) at the crank speed ``omega`` and acceleration ``epsilon``, with empty
         ``extra``, ``pressure_angles`` and ``transmission_angles``: where the named mechanisms'
-        motions end. Built without the frozen dataclasses' ``__init__`` (see
+        motions end. The three dicts become the motion's own: their jets are replaced by
+        tracks in place. Built without the frozen dataclasses' ``__init__`` (see
         :func:`_point_track`)."""
         pt, lt, st = PointTrack, LinkTrack, SliderTrack
         if type(epsilon) is float and epsilon == 0.0 and type(omega) is float and omega == 1.0:
             # the analogs themselves
-            points = {k: p if type(p) is pt else _point_track(*p) for k, p in points.items()}
-            links = {k: j if type(j) is lt else _scalar_track(lt, j) for k, j in links.items()}
-            sliders = {k: j if type(j) is st else _scalar_track(st, j) for k, j in sliders.items()}
+            for k, p in points.items():
+                if type(p) is not pt:
+                    points[k] = _point_track(*p)
+            for k, j in links.items():
+                if type(j) is not lt:
+                    links[k] = _link_track(*j)
+            for k, j in sliders.items():
+                if type(j) is not st:
+                    sliders[k] = _slider_track(*j)
         else:
-            points = {
-                k: p if type(p) is pt else pt.from_jet(p, omega, epsilon) for k, p in points.items()
-            }
-            links = {
-                k: j if type(j) is lt else lt.from_jet(j, omega, epsilon) for k, j in links.items()
-            }
-            sliders = {
-                k: j if type(j) is st else st.from_jet(j, omega, epsilon)
-                for k, j in sliders.items()
-            }
+            for k, p in points.items():
+                if type(p) is not pt:
+                    points[k] = pt.from_jet(p, omega, epsilon)
+            for k, j in links.items():
+                if type(j) is not lt:
+                    links[k] = lt.from_jet(j, omega, epsilon)
+            for k, j in sliders.items():
+                if type(j) is not st:
+                    sliders[k] = st.from_jet(j, omega, epsilon)
         m = _new(cls)
         d = m.__dict__
         d["phi"], d["omega"], d["epsilon"] = phi, omega, epsilon
