@@ -1,34 +1,41 @@
-"""Would a compiled kernel pay for a general linkage? The measurement behind the verdict in
-docs/linkages.md ("Speed"), reproducible (not run by the tests).
+"""Linkages on kernels generated from their own solve (``mechsynth.kinematics.linkage_kernels``):
+compilation, agreement with the model, throughput and a chart against the numpy model.
 
-Paper 001's six-link (crank, RRR, a point on the rocker, RRP) is written as one chain of calls to
-the blocks of ``mechsynth.kinematics.blocks`` -- the functions ``Linkage.motion`` runs for its
-groups -- and compiled the way ``mechsynth.kinematics.compiled`` compiles the four-bar and the
-slider-crank (their own code with ``ops`` rebound to ``scalar_ops``, a serial loop over angles
-inside a parallel loop over designs). The script checks the kernel against ``Linkage.motion`` to
-1e-12, then reports its compilation time and its throughput against the numpy model's on the
-same batch (design-angle evaluations per second; one thread unless ``--threads``).
+Paper 001's six-link (crank, RRR, a point on the rocker, RRP). The script reports
 
-Run: python benchmarks/bench_linkage_compiled.py [--designs N] [--threads T]
+* the kernel's first compilation in a fresh process with an empty cache directory, and its load
+  from the disk cache in another fresh process (each includes importing CasADi and tracing);
+* that the kernel agrees with ``Linkage.motion`` to 1e-12 (every output, on the batch below);
+* design-angle evaluations per second of the kernel (every output of the motion, one thread)
+  and of the numpy model, on the sweep's chunk of designs, as a ratio in the same run;
+* a ``sweep`` chart over a grid of rocker and rod lengths at 360 angles on the kernel and on the
+  model (``kernels=False``), as a ratio, and that the two charts agree.
+
+Run: python benchmarks/bench_linkage_compiled.py [--grid N] [--repeat R]
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import statistics
+import subprocess
+import sys
+import tempfile
 import time
 
 import numpy as np
 
 import mechsynth as ms
-from mechsynth.kinematics import blocks, scalar_ops
-from mechsynth.kinematics.compiled import _twin
-from mechsynth.kinematics.tracks import PointJet
+from mechsynth.kinematics import linkage_kernels as lkk
+from mechsynth.kinematics.compiled import BatchWorkspace
+from mechsynth.objectives.kinematic import peak_velocity
+from mechsynth.synthesis import charts
 
 
 def six_link():
     return (
-        ms.Linkage(ground={"O": (0, 0), "D": (0.12, 0.05)})
+        ms.Linkage(ground={"O": (0, 0), "D": (0.12, 0.05)}, name="six-link")
         .crank("A", about="O", length=0.03)
         .rrr("B", ("A", 0.12), ("D", 0.08))
         .attach("K", on=("D", "B"), along=-0.05)
@@ -36,121 +43,94 @@ def six_link():
     )
 
 
-def six_link_chain(c, s, oa, ab, db, dx, dy, k_along, k_left, kn, gx, gy, ga):
-    """The six-link's groups in solving order, as the linkage solves them: the crank pin A, the
-    RRR dyad A-B-D, K on the rocker's frame (origin D, axis D -> B), the RRP dyad K-N."""
-    a = crank_pin(c, s, oa)  # noqa: F821 - bound by _twin
-    zero = 0.0 * a.x
-    d = PointJet(dx + zero, dy + zero, zero, zero, zero, zero)
-    _, _, rocker = dyad_rrr(a, d, ab, db, 1)  # noqa: F821
-    k = coupler_point(d, rocker, k_along, k_left)  # noqa: F821
-    _, slide, _ = dyad_rrp(k, kn, gx, gy, ga, 1)  # noqa: F821
-    return slide
+_CHILD = """
+import time
+t = time.perf_counter()
+import mechsynth.kinematics.linkage_kernels as lkk
+from bench_linkage_compiled import six_link
+lkk.linkage_kernel(six_link())
+print(time.perf_counter() - t)
+"""
 
 
-def compile_kernel():
-    import numba
-
-    jit = numba.njit(error_model="numpy", inline="always")
-    ns = {
-        "ops": scalar_ops,
-        "_check_nonnegative": scalar_ops.check_nonnegative,
-        "_check_toggle": scalar_ops.check_toggle,
-    }
-    for f in (
-        blocks.link_angle,
-        blocks.crank_pin,
-        blocks.dyad_rrr,
-        blocks._rrp_slide,
-        blocks.dyad_rrp,
-        blocks.coupler_point,
-    ):
-        fn = getattr(f, "__wrapped__", f)
-        ns[fn.__name__] = _twin(fn, ns, jit)
-    chain = _twin(six_link_chain, ns, jit)
-
-    @numba.njit(error_model="numpy")
-    def row(p, cphi, sphi, out, i):
-        for j in range(cphi.shape[0]):
-            sl = chain(
-                cphi[j], sphi[j], p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], p[9], p[10]
-            )
-            out[0, i, j], out[1, i, j], out[2, i, j] = sl
-
-    @numba.njit(error_model="numpy", parallel=True)
-    def kernel(P, cphi, sphi, out):
-        for i in numba.prange(P.shape[0]):
-            row(P[i], cphi, sphi, out, i)
-
-    return kernel
+def fresh_process_seconds(cache: str) -> float:
+    env = dict(os.environ, MECHSYNTH_CACHE_DIR=cache)
+    here = os.path.dirname(os.path.abspath(__file__))
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [here, env.get("PYTHONPATH", "")]))
+    out = subprocess.run(
+        [sys.executable, "-c", _CHILD], env=env, capture_output=True, text=True, check=True
+    )
+    return float(out.stdout.split()[-1])
 
 
-NAMES = ("OA", "AB", "DB", "D_x", "D_y", "K_along", "K_left", "KN", "N_guide_x", "N_guide_y",
-         "N_guide_angle")  # fmt: skip
+def timed(fn, repeat):
+    times = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t)
+    return statistics.median(times)
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--designs", type=int, default=10_000)
-    ap.add_argument("--angles", type=int, default=360)
-    ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--grid", type=int, default=100, help="chart of N x N designs")
     ap.add_argument("--repeat", type=int, default=3)
     args = ap.parse_args(argv)
     import numba
 
-    numba.set_num_threads(args.threads)
+    numba.set_num_threads(1)
+    with tempfile.TemporaryDirectory() as cache:
+        first = fresh_process_seconds(cache)
+        again = fresh_process_seconds(cache)
+    print(f"kernel of the six-link: first compilation {first:.1f} s, later processes {again:.2f} s")
+
     six = six_link()
-    phi = ms.cycle(args.angles)
-    n = args.designs
+    kernel = lkk.linkage_kernel(six)
+    phi = ms.cycle(360)
+    chunk = max(1, 2**16 // phi.size)  # the sweep's chunk of designs
     rng = np.random.default_rng(0)
-    P = np.tile([six.parameters[k] for k in NAMES], (n, 1))
-    P[:, 2] = rng.uniform(0.07, 0.09, n)  # the rocker DB varies over the batch
+    batch = six(DB=rng.uniform(0.07, 0.09, (chunk, 1)), AB=rng.uniform(0.115, 0.125, (chunk, 1)))
+    ref = batch.motion(phi)
+    motion, good, _ = lkk.linkage_batch(batch, phi, kernel=kernel)
+    assert good.all()
+    worst = 0.0
+    for k, p in ref.points.items():
+        for f in ("x", "y", "vx", "vy", "ax", "ay"):
+            a, b = getattr(p, f), getattr(motion.points[k], f)
+            worst = max(worst, float(np.max(np.abs(a - b)) / max(1.0, np.max(np.abs(a)))))
+    assert worst < 1e-12, worst
+    print(f"kernel = Linkage.motion to {worst:.1e} (every point's tracks; the tests check all)")
 
-    t = time.perf_counter()
-    kernel = compile_kernel()
-    out = np.empty((3, 2, args.angles))
-    kernel(P[:2], np.cos(phi), np.sin(phi), out)
-    t_compile = time.perf_counter() - t
-    print(f"compilation: {t_compile:.1f} s (one linkage structure, in this process)")
-
-    # the kernel is the model: agree with Linkage.motion to 1e-12
-    ref = six(DB=P[:50, 2:3]).motion(phi).sliders["N"]
-    out = np.empty((3, 50, args.angles))
-    kernel(P[:50], np.cos(phi), np.sin(phi), out)
-    for k, f in enumerate(("position", "velocity", "acceleration")):
-        r = np.asarray(getattr(ref, f))
-        err = np.max(np.abs(out[k] - r)) / max(1.0, np.max(np.abs(r)))
-        assert err < 1e-12, (f, err)
-    print("kernel = Linkage.motion to 1e-12 (slider N: position, velocity, acceleration)")
-
-    def compiled():
-        o = np.empty((3, n, args.angles))
-        kernel(P, np.cos(phi), np.sin(phi), o)
-        return o
-
-    chunk = max(1, 2**16 // args.angles)
-
-    def numpy_model():
-        for i in range(0, n, chunk):
-            six(DB=P[i : i + chunk, 2:3]).motion(phi).sliders["N"]
-
-    def timed(fn):
-        times = []
-        for _ in range(args.repeat):
-            t = time.perf_counter()
-            fn()
-            times.append(time.perf_counter() - t)
-        return statistics.median(times)
-
-    tc, tn = timed(compiled), timed(numpy_model)
-    evals = n * args.angles
+    ws = BatchWorkspace()
+    tk = timed(lambda: lkk.linkage_batch(batch, phi, workspace=ws, kernel=kernel), args.repeat)
+    tn = timed(lambda: batch.motion(phi), args.repeat)
+    evals = chunk * phi.size
     print(
-        f"{n} designs x {args.angles} angles: compiled {evals / tc:.3g} evaluations/s "
-        f"({args.threads} thread(s)), numpy model {evals / tn:.3g} (x {tn / tc:.2g})"
+        f"{chunk} designs x {phi.size} angles (a sweep's chunk), one thread: kernel "
+        f"{evals / tk:.3g} evaluations/s, numpy model {evals / tn:.3g} (kernel x {tn / tk:.2g})"
     )
-    gain = evals / tc - evals / tn
-    breakeven = t_compile / (1.0 / (evals / tn) - 1.0 / (evals / tc)) if gain > 0 else np.inf
-    print(f"break-even: {breakeven:.3g} design-angle evaluations of this structure per process")
+
+    n = args.grid
+    grid = {"DB": np.linspace(0.03, 0.16, n), "AB": np.linspace(0.09, 0.15, n)}
+    measures = {
+        "peak velocity": peak_velocity(),
+        "pressure": lambda mech, m: np.max(m.pressure_angle, axis=-1),
+    }
+    kw = dict(angles=360, speed=ms.rpm(600), progress=False)
+    fast = charts.sweep(six, grid, measures, **kw)
+    t_fast = timed(lambda: charts.sweep(six, grid, measures, **kw), args.repeat)
+    model = charts.sweep(six, grid, measures, kernels=False, **kw)
+    t_model = timed(lambda: charts.sweep(six, grid, measures, kernels=False, **kw), 1)
+    assert np.array_equal(fast.feasible, model.feasible)
+    for label in measures:
+        a, b = fast.values[label].filled(0.0), model.values[label].filled(0.0)
+        assert np.allclose(a, b, rtol=1e-12, atol=1e-15), label
+    print(
+        f"chart of {n} x {n} six-links x 360 angles ({fast.feasible.mean():.0%} assemble): "
+        f"kernel {t_fast:.2f} s, numpy model {t_model:.2f} s (x {t_model / t_fast:.2g}); "
+        "the same feasibility and values"
+    )
 
 
 if __name__ == "__main__":

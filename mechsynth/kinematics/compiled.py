@@ -573,18 +573,19 @@ _ANNOUNCED: set[str] = set()
 
 # ------------------------------------------------------------------------------- batch motion
 class BatchWorkspace:
-    """Reused buffers for :func:`batch_motion`: one ``(8, rows, m)`` block (the kernel's six
-    outputs and the pressure and transmission angles), grown when a larger batch asks, never
-    shrunk, so a sweep streaming blocks through it allocates its kinematics once."""
+    """Reused buffers for :func:`batch_motion`: one ``(8, n, m)`` block (the kernel's six
+    outputs and the pressure and transmission angles; a linkage kernel's ``(rows, n, m)``),
+    grown when a larger batch asks, never shrunk, so a sweep streaming blocks through it
+    allocates its kinematics once."""
 
     def __init__(self):
         self._buf = np.empty(0)
 
-    def block(self, n: int, m: int) -> np.ndarray:
-        size = 8 * n * m
+    def block(self, n: int, m: int, rows: int = 8) -> np.ndarray:
+        size = rows * n * m
         if self._buf.size < size:
             self._buf = np.empty(size)
-        return self._buf[:size].reshape(8, n, m)
+        return self._buf[:size].reshape(rows, n, m)
 
 
 def batch_motion(mechanism, phi, speed=None, workspace: BatchWorkspace | None = None):

@@ -964,13 +964,16 @@ class Linkage(Drawable):
         return f"<Linkage {self._name!r}: {kinds}; {len(self._values)} parameters>"
 
     # ------------------------------------------------------------------ solving
-    def _solve(self, phi, strict=True) -> _State:
+    def _solve(self, phi, strict=True, hold=True) -> _State:
+        """The groups solved in order at ``phi``; ``strict`` raises where one cannot close (else
+        NaN there); ``hold`` (symbolic input) keeps an optimizer's expressions finite there
+        (:meth:`_State.relax`)."""
         if not self._groups:
             raise MechanismError(
                 f"{self._name} has no driver: add one with .crank(...) or .slider(...)"
             )
         v = self._values
-        st = _State(phi, v, strict, self._bodies)
+        st = _State(phi, v, strict, self._bodies, hold)
         for p, x, y in self._ground:
             st.points[p] = PointJet(v[x], v[y], 0.0, 0.0, 0.0, 0.0)
         with np.errstate(invalid="ignore", divide="ignore") if not strict else _nullcontext():
@@ -1062,7 +1065,10 @@ class Linkage(Drawable):
                 raise MechanismError(f"phi must be {self._input_words()}, got {phi!r}") from None
             if not np.all(np.isfinite(phi)):
                 raise MechanismError(f"phi must be finite {self._input_words()}")
-        st = self._solve(phi)
+        return self._motion(self._solve(phi), phi, omega, eps)
+
+    def _motion(self, st: _State, phi, omega, eps) -> Motion:
+        """The :class:`Motion` of a solved state (of the model, or of the compiled kernel)."""
         crank_key = self._groups[0].key
         zero = 0.0 * st.points[crank_key].x
         points = {}

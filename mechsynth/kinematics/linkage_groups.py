@@ -140,11 +140,12 @@ class Guide:
 class _State:
     """What a solve has computed so far (jets, tracks, margins), group by group."""
 
-    def __init__(self, phi, values, strict, bodies):
+    def __init__(self, phi, values, strict, bodies, hold=True):
         self.phi = phi
         self.v = values
         self.strict = strict
         self.bodies = bodies
+        self.hold = hold
         self.points: dict[str, PointJet] = {}
         self.links: dict[str, Jet] = {}
         self.sliders: dict[str, Jet] = {}
@@ -175,10 +176,12 @@ class _State:
         * symbolic (an optimizer): the position ``moved = (x, y)``, which equals the point's
           where the group closes and is pulled to just inside the closing range where it does
           not, so that the expressions stay finite and the optimizer, seeing the group's
-          negative assembly margin, steers back (a NaN would stop it).
+          negative assembly margin, steers back (a NaN would stop it);
+        * symbolic with ``hold`` off (the trace a compiled kernel is generated from): unchanged,
+          the numeric strict solve's expressions (NaN where the group cannot close).
         """
         if ops.is_symbolic(margin):
-            if moved is None:
+            if moved is None or not self.hold:
                 return jet
             return PointJet(moved[0], moved[1], jet.dx, jet.dy, jet.ddx, jet.ddy)
         if self.strict:

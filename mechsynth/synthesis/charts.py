@@ -550,6 +550,7 @@ def _sweep_block(spec: _SweepSpec, c: int) -> _BlockResult | None:
         if isinstance(v, np.ndarray) and v.ndim == 1:
             params_out[name] = v
     compiled = [spec.kernels]  # cleared when a measure needs what the compiled motion lacks
+    kernel = _linkage_kernel(spec)
 
     def motion_of(mech):
         if compiled[0]:
@@ -592,7 +593,10 @@ def _sweep_block(spec: _SweepSpec, c: int) -> _BlockResult | None:
                 # this chunk evaluates on the model from here on
                 compiled[0] = False
                 got = measure_all(mech, mech.motion(spec.phi, speed=spec.speed), n)
-        finite = np.ones(n, dtype=bool)
+        store(rows, got)
+
+    def store(rows, got):
+        finite = np.ones(rows.size, dtype=bool)
         for v in got.values():
             finite &= np.isfinite(v)
         if not finite.all():
@@ -601,8 +605,52 @@ def _sweep_block(spec: _SweepSpec, c: int) -> _BlockResult | None:
             values[label][rows] = np.where(finite, v, 0.0)
         ok[rows] &= finite
 
-    evaluate(np.flatnonzero(ok))
+    def evaluate_linkage(rows):
+        """A linkage's designs on its compiled kernel; the model judges the designs the kernel
+        cannot vouch for (and names why a failed design cannot be assembled)."""
+        from ..kinematics.linkage_kernels import linkage_batch
+
+        try:
+            mech = spec.mechanism(**_column(params, rows))
+        except MechanismError:
+            return evaluate(rows)
+        if not hasattr(_LOCAL, "ws"):
+            _LOCAL.ws = BatchWorkspace()
+        motion, good, failed = linkage_batch(mech, spec.phi, spec.speed, _LOCAL.ws, kernel)
+        if good.any():
+            with np.errstate(all="ignore"):
+                got = measure_all(mech, motion, rows.size)
+            store(rows[good], {label: v[good] for label, v in got.items()})
+        if failed.any():
+            if not reason[0]:
+                evaluate(rows[failed][:1])  # the model's message for the first
+            ok[rows[failed]] = False
+        rest = rows[~good & ~failed]
+        if rest.size:
+            evaluate(rest)
+
+    (evaluate if kernel is None else evaluate_linkage)(np.flatnonzero(ok))
     return result()
+
+
+#: design-angle evaluations above which a Linkage's sweep runs on a kernel compiled for its
+#: structure (:mod:`~mechsynth.kinematics.linkage_kernels`): its first compilation costs about
+#: 3.5 s, later processes load it from the disk cache in about 0.3 s; the numpy model takes
+#: about 3 s for as many evaluations in a sweep (benchmarks/bench_linkage_compiled.py)
+LINKAGE_KERNEL_MIN = 3e6
+
+
+def _linkage_kernel(spec):
+    """The compiled kernel for a Linkage's sweep (None: the model evaluates it)."""
+    from ..kinematics.linkage import Linkage
+
+    if not (spec.kernels and isinstance(spec.mechanism, Linkage)):
+        return None
+    if int(np.prod(spec.shape)) * spec.phi.size < LINKAGE_KERNEL_MIN:
+        return None
+    from ..kinematics.linkage_kernels import linkage_kernel
+
+    return linkage_kernel(spec.mechanism)
 
 
 def _dumps(spec) -> bytes:
@@ -665,7 +713,9 @@ def _on_kernels(spec) -> bool:
     from ..kinematics.four_bar import FourBar
     from ..kinematics.slider_crank import SliderCrank
 
-    return spec.kernels and spec.mechanism in (SliderCrank, FourBar) and numba_available()
+    if spec.kernels and spec.mechanism in (SliderCrank, FourBar) and numba_available():
+        return True
+    return _linkage_kernel(spec) is not None
 
 
 def _pool_size(executor, spec, total, n_chunks) -> int:
@@ -770,8 +820,10 @@ def sweep(
     workers : threads evaluating chunks in parallel (numpy releases the GIL in its array
         loops); 1 evaluates them one after the other.
     kernels : evaluate the motion on the compiled batch kernels when the mechanism has them
-        (slider-crank, four-bar; numba installed), streaming the chunks through one reused
-        workspace; the model's ``motion`` evaluates the rest, and every measure that needs
+        (slider-crank, four-bar; a Linkage's kernel compiled for its structure when the sweep
+        has at least :data:`LINKAGE_KERNEL_MIN` design-angle evaluations; numba installed),
+        streaming the chunks through one reused workspace; the model's ``motion`` evaluates the
+        rest, the designs a linkage's kernel cannot vouch for, and every measure that needs
         more than the kernels give (a point's track). False: always the model (the reference
         the tests compare with).
     executor : a :class:`concurrent.futures.Executor` that evaluates the chunks (e.g.
@@ -781,9 +833,9 @@ def sweep(
         cloudpickle when plain pickle cannot take them, e.g. local functions). ``"processes"``:
         a pool of fresh processes, one per core, for this sweep (a script must guard its main
         code with ``if __name__ == "__main__":``). ``"auto"``: that pool when the motion runs
-        on the numpy model (a Linkage, or ``kernels=False``) and the sweep has more than
-        :data:`POOL_MIN_EVALUATIONS` design-angle evaluations, else this process (the compiled
-        kernels already use every core); the command line's charts run this way. None
+        on the numpy model (``kernels=False``, or a Linkage without a kernel) and the sweep has
+        more than :data:`POOL_MIN_EVALUATIONS` design-angle evaluations, else this process (the
+        compiled kernels already use every core); the command line's charts run this way. None
         (default): the executor of an enclosing :func:`sweep_executor` block, else this
         process on ``workers`` threads (``"local"`` likewise).
 

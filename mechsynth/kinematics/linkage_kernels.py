@@ -1,0 +1,479 @@
+"""Compiled kernels for general linkages, generated from the model itself.
+
+A :class:`~mechsynth.kinematics.linkage.Linkage` is solved by Python code that walks its groups
+and calls the blocks (:mod:`~mechsynth.kinematics.linkage_groups`,
+:mod:`~mechsynth.kinematics.blocks`). For a big batch of designs this module turns that very
+solve into one compiled function:
+
+1. the linkage's strict solve is traced once on CasADi symbols -- the input (crank angle or
+   driving slider's displacement) and every parameter -- which records its arithmetic as a
+   straight-line list of instructions (the same trace an optimizer differentiates; the
+   symbolic "hold" of groups that cannot close is off, so the trace is the numeric model's:
+   NaN where a group cannot close, inf at a toggle);
+2. the instructions become the body of a numba function of one design and one input value,
+   with the parameter-only part hoisted out of the loop over inputs, the transcendental
+   functions those of :mod:`~mechsynth.kinematics.scalar_ops` (as the four-bar and slider-crank
+   kernels);
+3. the source is written to the cache directory (:func:`cache_dir`) under the digest of its
+   text and compiled with numba's disk cache: a structure compiles once per machine (about a
+   second, announced in one line when slower than 3 s), later processes load it.
+
+The kernel computes every output of :meth:`Linkage.motion` -- each point's, link's and slider's
+jet, each group's pressure and transmission angles and assembly margin, the followers' extra
+quantities -- into one ``(outputs, designs, inputs)`` block, and two numbers per design that
+say whether the model must look at it: whether every output was finite, and the smallest
+assembly margin. Only the structure matters (which groups, branches and parameter names); the
+values are the kernel's inputs. Tests check the kernels against ``Linkage.motion`` to 1e-12.
+
+Linkages with a cam follower get no kernel (None), nor do those whose trace holds an operation
+the generator does not know; the callers then use the model. (A follower's contact is found by a
+fixed number of Newton steps from sampled profile points: paper 001's five-link traces to about
+3,400 lines, which numba took 93 s to compile -- more than the model needs for any chart.)
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import importlib.util
+import math
+import os
+import sys
+import tempfile
+import threading
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["LinkageKernel", "linkage_kernel", "cache_dir", "linkage_batch"]
+
+# casadi operation -> Python expression over the inputs {0}, {1} (scalar_ops as ``so``)
+_FORMS = {
+    "OP_ADD": "{0} + {1}",
+    "OP_SUB": "{0} - {1}",
+    "OP_MUL": "{0} * {1}",
+    "OP_DIV": "{0} / {1}",
+    "OP_NEG": "-{0}",
+    "OP_SQ": "{0} * {0}",
+    "OP_TWICE": "{0} + {0}",
+    "OP_INV": "1.0 / {0}",
+    "OP_SQRT": "so.sqrt({0})",
+    "OP_SIN": "so.sin({0})",
+    "OP_COS": "so.cos({0})",
+    "OP_TAN": "so.tan({0})",
+    # arcsin and arccos through the branch-free arctan2 (NaN outside [-1, 1] as theirs)
+    "OP_ASIN": "so.arctan2({0}, so.sqrt(1.0 - {0} * {0}))",
+    "OP_ACOS": "so.arctan2(so.sqrt(1.0 - {0} * {0}), {0})",
+    "OP_ATAN": "math.atan({0})",
+    "OP_ATAN2": "so.arctan2({0}, {1})",
+    "OP_FABS": "so.fabs({0})",
+    "OP_FMIN": "so.fmin({0}, {1})",
+    "OP_FMAX": "so.fmax({0}, {1})",
+    "OP_HYPOT": "so.hypot({0}, {1})",
+    "OP_EXP": "math.exp({0})",
+    "OP_LOG": "math.log({0})",
+    "OP_POW": "{0} ** {1}",
+    "OP_CONSTPOW": "{0} ** {1}",
+    "OP_FLOOR": "math.floor({0})",
+    "OP_CEIL": "math.ceil({0})",
+    "OP_FMOD": "math.fmod({0}, {1})",
+    "OP_SIGN": "(1.0 if {0} > 0.0 else (-1.0 if {0} < 0.0 else 0.0))",
+    "OP_COPYSIGN": "math.copysign({0}, {1})",
+    "OP_LT": "(1.0 if {0} < {1} else 0.0)",
+    "OP_LE": "(1.0 if {0} <= {1} else 0.0)",
+    "OP_EQ": "(1.0 if {0} == {1} else 0.0)",
+    "OP_NE": "(1.0 if {0} != {1} else 0.0)",
+    "OP_NOT": "(1.0 if {0} == 0.0 else 0.0)",
+    "OP_AND": "(1.0 if {0} != 0.0 and {1} != 0.0 else 0.0)",
+    "OP_OR": "(1.0 if {0} != 0.0 or {1} != 0.0 else 0.0)",
+    "OP_IF_ELSE_ZERO": "({1} if {0} != 0.0 else 0.0)",
+}
+
+
+def cache_dir() -> Path:
+    """Where generated kernels are kept: ``$MECHSYNTH_CACHE_DIR``, else the user's cache
+    directory (``$XDG_CACHE_HOME`` or ``~/.cache``) ``/mechsynth``, else a temporary one."""
+    env = os.environ.get("MECHSYNTH_CACHE_DIR")
+    if env:
+        base = Path(env)
+    else:
+        base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "mechsynth"
+    for d in (base / "linkage_kernels", Path(tempfile.gettempdir()) / "mechsynth_kernels"):
+        try:
+            d.mkdir(parents=True, exist_ok=True)
+            if os.access(d, os.W_OK):
+                return d
+        except OSError:
+            continue
+    raise OSError("no writable directory for mechsynth's compiled linkage kernels")
+
+
+@dataclass(frozen=True)
+class LinkageKernel:
+    """A compiled linkage structure.
+
+    Attributes
+    ----------
+    names : the parameters, in the order of the kernel's parameter matrix's columns.
+    layout : ``(kind, key, offset, size)`` per output of the solve: ``kind`` one of
+        ``"points"`` (6 rows: x, y and their first and second analogs), ``"links"``,
+        ``"sliders"`` (3 rows: value and analogs), ``"pressure"``, ``"transmission"``,
+        ``"margins"``, ``"extra"`` (1 row).
+    outputs : the number of rows.
+    margins : the rows of the assembly margins.
+    source : the generated Python source.
+    """
+
+    names: tuple
+    layout: tuple
+    outputs: int
+    margins: tuple
+    source: str
+    serial: object
+    parallel: object
+
+    def __call__(self, params: np.ndarray, phi: np.ndarray, out=None, flags=None, threads=None):
+        """Evaluate ``params`` (``(n, len(names))``) at the inputs ``phi`` (``(m,)``) into
+        ``out`` (``(outputs, n, m)``) and ``flags`` (``(n, 2)``: per design 0 where every
+        output is finite (else NaN) and its smallest assembly margin). ``threads`` None: numba's
+        threads for batches of at least :data:`~mechsynth.kinematics.compiled.PARALLEL_MIN`
+        evaluations."""
+        from .compiled import PARALLEL_MIN
+
+        n, m = params.shape[0], phi.shape[0]
+        if out is None:
+            out = np.empty((self.outputs, n, m))
+        if flags is None:
+            flags = np.empty((n, 2))
+        parallel = (n * m >= PARALLEL_MIN) if threads is None else bool(threads)
+        phi = np.array(phi, dtype=float)  # a writable copy: one array type per kernel
+        c, s = np.cos(phi), np.sin(phi)
+        if parallel:
+            from .compiled import announce_compilation
+
+            with announce_compilation("a linkage kernel's threaded loop"):
+                self.parallel(params, phi, c, s, out, flags)
+        else:
+            self.serial(params, phi, c, s, out, flags)
+        return out, flags
+
+
+# -------------------------------------------------------------------------------- the trace
+def _trace(linkage):
+    """``(casadi Function (input, parameters) -> outputs, names, layout, margin rows)``."""
+    import casadi as ca
+
+    names = tuple(linkage.parameters)
+    p = ca.SX.sym("p", len(names))
+    x = ca.SX.sym("x")
+    sym = linkage.with_parameters(**{k: p[i] for i, k in enumerate(names)})
+    st = sym._solve(x, strict=True, hold=False)
+    rows, layout, margins = [], [], []
+
+    def put(kind, key, values):
+        layout.append((kind, key, len(rows), len(values)))
+        if kind == "margins":
+            margins.append(len(rows))
+        rows.extend(ca.SX(v) for v in values)
+
+    for kind in ("points", "links", "sliders"):
+        for key, jet in getattr(st, kind).items():
+            put(kind, key, tuple(jet))
+    for kind in ("pressure", "transmission", "margins", "extra"):
+        for key, value in getattr(st, kind).items():
+            put(kind, key, (value,))
+    f = ca.Function("linkage", [x, p], [ca.vertcat(*rows)])
+    return f, names, tuple(layout), tuple(margins)
+
+
+def _stamp() -> str:
+    """A digest of what the generated code calls: scalar_ops' code and numba's version."""
+    import marshal
+
+    import numba
+
+    from . import scalar_ops
+
+    h = hashlib.sha256(numba.__version__.encode())
+    for name, v in sorted(vars(scalar_ops).items()):
+        fn = getattr(v, "py_func", None)
+        if fn is not None:
+            h.update(name.encode() + marshal.dumps(fn.__code__))
+    return h.hexdigest()[:16]
+
+
+def _source(f, margins, stamp) -> str:
+    """The numba source of the traced function ``f`` (one design, a loop over inputs).
+
+    Sines and cosines are resolved before they reach libm (whose scalar calls would keep the
+    loop over inputs from being vectorized): of the input, from its cosines and sines computed
+    once per grid; of an ``arctan2(y, x)``, ``(x, y) / hypot``; of sums, differences,
+    negations and doublings, by the angle-addition formulas; of parameters alone, once per
+    design outside the loop. Any other argument calls libm. Where a rewrite differs from the
+    model beyond round-off (at ``hypot == 0``) it gives NaN, which sends the design to the
+    model.
+    """
+    import casadi as ca
+
+    opname = {getattr(ca, k): k for k in dir(ca) if k.startswith("OP_")}
+    hoisted, body, writes = [], [], []
+    var = {}  # casadi work slot -> current SSA name
+    node = {}  # SSA name -> (operation, argument names)
+    varies = {"cx": True, "sx": True}  # SSA name -> depends on the input
+    trig = {}  # SSA name -> (its cosine's name, its sine's name)
+
+    def emit(name, line, dep):
+        (body if dep else hoisted).append(f"{name} = {line}")
+        varies[name] = dep
+
+    def cos_sin(z):
+        if z in trig:
+            return trig[z]
+        op, args = node[z]
+        c, s = f"c_{z}", f"s_{z}"
+        if not varies[z]:
+            emit(c, f"so.cos({z})", False)
+            emit(s, f"so.sin({z})", False)
+        elif op == "OP_INPUT":
+            c, s = "cx", "sx"
+        elif op == "OP_ATAN2":
+            y, x = args
+            emit(f"r_{z}", f"so.sqrt({x} * {x} + {y} * {y})", True)
+            emit(c, f"{x} / r_{z}", True)
+            emit(s, f"{y} / r_{z}", True)
+        elif op in ("OP_ADD", "OP_SUB"):
+            (ca_, sa), (cb, sb) = cos_sin(args[0]), cos_sin(args[1])
+            sign = "-" if op == "OP_ADD" else "+"
+            emit(c, f"{ca_} * {cb} {sign} {sa} * {sb}", True)
+            emit(s, f"{sa} * {cb} {'+' if op == 'OP_ADD' else '-'} {ca_} * {sb}", True)
+        elif op == "OP_NEG":
+            ca_, sa = cos_sin(args[0])
+            c = ca_
+            emit(s, f"-{sa}", True)
+        elif op == "OP_TWICE":
+            ca_, sa = cos_sin(args[0])
+            emit(c, f"{ca_} * {ca_} - {sa} * {sa}", True)
+            emit(s, f"2.0 * {sa} * {ca_}", True)
+        else:
+            emit(c, f"so.cos({z})", True)
+            emit(s, f"so.sin({z})", True)
+        trig[z] = (c, s)
+        return c, s
+
+    for k in range(f.n_instructions()):
+        op = opname.get(f.instruction_id(k), str(f.instruction_id(k)))
+        ins, outs = f.instruction_input(k), f.instruction_output(k)
+        name = f"v{k}"
+        args = ()
+        if op == "OP_INPUT":
+            line = "x" if ins[0] == 0 else f"p[i, {ins[1]}]"
+            dep = ins[0] == 0
+        elif op == "OP_CONST":
+            c = float(f.instruction_constant(k))
+            line = repr(c) if math.isfinite(c) else f"math.{'nan' if c != c else 'inf'}"
+            if c == -math.inf:
+                line = "-math.inf"
+            dep = False
+        elif op == "OP_OUTPUT":
+            writes.append((outs[1], var[ins[0]]))
+            continue
+        elif op in ("OP_COS", "OP_SIN"):
+            arg = var[ins[0]]
+            line = cos_sin(arg)[op == "OP_SIN"]
+            dep = varies[arg]
+        elif op in _FORMS:
+            args = tuple(var[i] for i in ins)
+            line = _FORMS[op].format(*args)
+            dep = any(varies[a] for a in args)
+        else:
+            raise NotImplementedError(f"casadi operation {op}")
+        emit(name, line, dep)
+        node[name] = (op, args)
+        var[outs[0]] = name
+    ind = " " * 8
+    lines = [
+        '"""A linkage kernel generated by mechsynth (do not edit: regenerated when stale)."""',
+        "import math",
+        "",
+        "import numba",
+        "import numpy as np",
+        "",
+        "from mechsynth.kinematics import scalar_ops as so",
+        "",
+        f"STAMP = {stamp!r}",
+        "",
+        "",
+        '@numba.njit(error_model="numpy", cache=True)',
+        "def row(p, phi, cphi, sphi, out, flags, i):",
+        *("    " + s for s in hoisted),
+        "    check = np.empty((2, phi.shape[0]))",
+        "    for j in range(phi.shape[0]):",
+        ind + "x = phi[j]",
+        ind + "cx = cphi[j]",
+        ind + "sx = sphi[j]",
+        *(ind + s for s in body),
+    ]
+    # per input, not accumulated: a running sum or minimum would keep the loop from being
+    # vectorized (floating-point reductions are not reordered without fastmath)
+    finite, least = ["0.0"], ["math.inf"]
+    for r, name in sorted(writes):
+        lines.append(ind + f"out[{r}, i, j] = {name}")
+        finite.append(f"({name} - {name})")
+        if r in margins:
+            least = [f"min({least[0]}, {name})"]
+    lines += [
+        ind + f"check[0, j] = {' + '.join(finite)}",
+        ind + f"check[1, j] = {least[0]}",
+        "    flags[i, 0] = check[0].sum()",
+        "    flags[i, 1] = check[1].min() if phi.shape[0] else math.inf",
+        "",
+        "",
+        '@numba.njit(error_model="numpy", cache=True)',
+        "def serial(p, phi, cphi, sphi, out, flags):",
+        "    for i in range(p.shape[0]):",
+        "        row(p, phi, cphi, sphi, out, flags, i)",
+        "",
+        "",
+        '@numba.njit(error_model="numpy", cache=True, parallel=True)',
+        "def parallel(p, phi, cphi, sphi, out, flags):",
+        "    for i in numba.prange(p.shape[0]):",
+        "        row(p, phi, cphi, sphi, out, flags, i)",
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def _load(source: str):
+    """Import the generated module (written once under its digest; compiled or loaded from
+    numba's disk cache beside it on first call)."""
+    digest = hashlib.sha256(source.encode()).hexdigest()[:20]
+    modname = f"mechsynth_linkage_{digest}"
+    if modname in sys.modules:
+        return sys.modules[modname]
+    path = cache_dir() / f"{modname}.py"
+    if not path.exists() or path.read_text() != source:
+        tmp = path.with_suffix(f".{os.getpid()}.{threading.get_ident()}.tmp")
+        tmp.write_text(source)
+        os.replace(tmp, path)
+    spec = importlib.util.spec_from_file_location(modname, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    sys.modules[modname] = module
+    return module
+
+
+def _structure(linkage):
+    """What a kernel depends on: the groups, the ground points and the parameters' names and
+    order (not their values)."""
+    return (linkage._ground, linkage._groups, tuple(linkage.parameters))
+
+
+_LOCK = threading.Lock()
+_KERNELS: dict = {}
+
+
+@functools.cache
+def _vectorize_wide_loops():
+    """Let LLVM vectorize a kernel's loop over inputs although it writes dozens of output rows:
+    its default limits on the runtime overlap checks between arrays (8, and 128 with a pragma)
+    leave such a loop scalar, about 3 x slower. The checks stay: where arrays could overlap
+    the scalar loop runs. (Process-wide; it only lets other compiled loops vectorize too.)"""
+    import llvmlite.binding as llvm
+
+    llvm.set_option("", "-runtime-memory-check-threshold=100000")
+    llvm.set_option("", "-vectorize-memory-check-threshold=100000")
+
+
+def linkage_kernel(linkage) -> LinkageKernel | None:
+    """The compiled kernel of ``linkage``'s structure (built on first use, then remembered), or
+    None when numba is missing, the linkage has a cam follower or its solve uses an operation
+    the generator does not know."""
+    from .compiled import announce_compilation, numba_available
+    from .linkage_groups import FollowerGroup
+
+    if not numba_available() or any(isinstance(g, FollowerGroup) for g in linkage.groups):
+        return None
+    try:
+        key = _structure(linkage)
+        hash(key)
+    except TypeError:  # a group holding an unhashable value: traced every time
+        key = None
+    with _LOCK:
+        if key is not None and key in _KERNELS:
+            return _KERNELS[key]
+        try:
+            f, names, layout, margins = _trace(linkage)
+            source = _source(f, margins, _stamp())
+        except NotImplementedError:
+            kernel = None
+        else:
+            _vectorize_wide_loops()
+            module = _load(source)
+            n_out = sum(size for *_, size in layout)
+            with announce_compilation(f"a kernel for {linkage.name}'s structure"):
+                grid = np.zeros(1)
+                module.serial(
+                    np.ones((1, len(names))), grid, grid, grid, np.empty((n_out, 1, 1)),
+                    np.empty((1, 2)),
+                )  # fmt: skip
+            kernel = LinkageKernel(
+                names, layout, n_out, margins, source, module.serial, module.parallel
+            )
+        if key is not None:
+            _KERNELS[key] = kernel
+        return kernel
+
+
+# -------------------------------------------------------------------------------- batches
+def linkage_batch(linkage, phi, speed=None, workspace=None, kernel=None):
+    """The motion of a batch of numeric designs of ``linkage`` (each parameter a number or an
+    array of ``n`` designs) at the inputs ``phi`` (1-D) on its compiled kernel.
+
+    Returns ``(motion, good, failed)`` or None (no kernel, symbolic values, ``phi`` not 1-D):
+    ``motion`` has ``(n, m)`` tracks, views into ``workspace``'s block (valid until its next
+    use); ``good`` marks the designs whose every output is finite -- their values are the
+    model's to round-off -- and ``failed`` those where an assembly margin falls below -1e-6
+    (a group cannot close, by a margin far beyond round-off: the model raises there). The
+    others (a toggle, or within round-off of closing) are the model's to judge.
+    """
+    from . import ops
+    from .linkage_groups import _State
+    from .tracks import Jet, PointJet
+
+    values = linkage.parameters
+    if any(ops.is_symbolic(v) for v in values.values()):
+        return None
+    phi = np.asarray(phi, dtype=float)
+    if phi.ndim != 1:
+        return None
+    kernel = kernel or linkage_kernel(linkage)
+    if kernel is None:
+        return None
+    cols = [np.asarray(values[k], dtype=float).reshape(-1) for k in kernel.names]
+    n = max(c.size for c in cols)
+    params = np.empty((n, len(cols)))
+    for j, c in enumerate(cols):
+        params[:, j] = c
+    m = phi.size
+    if workspace is not None:
+        out = workspace.block(n, m, rows=kernel.outputs)
+    else:
+        out = np.empty((kernel.outputs, n, m))
+    _, flags = kernel(params, phi, out)
+    good = flags[:, 0] == 0.0
+    failed = ~good & (flags[:, 1] < -1e-6)
+    st = _State(phi, values, True, linkage._bodies)
+    for kind, key, off, size in kernel.layout:
+        rows = out[off : off + size]
+        target = getattr(st, kind)
+        if kind == "points":
+            target[key] = PointJet(*rows)
+        elif kind in ("links", "sliders"):
+            target[key] = Jet(*rows)
+        else:
+            target[key] = rows[0]
+    from .mechanism import speed_pair
+
+    omega, eps = speed_pair(speed, 0.0)
+    return linkage._motion(st, phi, omega, eps), good, failed

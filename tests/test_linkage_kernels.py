@@ -1,0 +1,168 @@
+"""Compiled kernels generated from a Linkage's own solve: every output equal to the model's
+motion to 1e-12 on batches of designs, for every kind of group; the designs the kernel marks as
+failed are the ones the model cannot assemble; a linkage chart on the kernel is the model's."""
+
+import numpy as np
+import pytest
+
+import mechsynth as ms
+from mechsynth.errors import MechanismError
+from mechsynth.kinematics import linkage_kernels as lkk
+from mechsynth.objectives.kinematic import peak_velocity
+from mechsynth.synthesis import charts
+
+pytest.importorskip("numba")
+
+from test_linkage import FIELDS, LINK_FIELDS, nail_header_linkage, six_link  # noqa: E402
+from test_linkage_cam import five_link  # noqa: E402
+from test_linkage_slider import cylinder_rocker, trammel  # noqa: E402
+
+from mechsynth.machines.nail_header import NailHeader  # noqa: E402
+
+PHI = ms.cycle(90)
+
+
+def carried_guide():
+    """An RRP whose guide is carried by the rocker DB (a frame angle plus a parameter)."""
+    base = ms.Linkage(ground={"O": (0, 0), "D": (0.12, 0.05)}).crank("A", about="O", length=0.03)
+    return base.rrr("B", ("A", 0.12), ("D", 0.08)).rrp("C", ("A", 0.2), guide=("DB", 0.1))
+
+
+LINKAGES = {
+    "six-link": (six_link, "DB", 0.07, 0.09),
+    "nail header (RPR)": (lambda: nail_header_linkage(NailHeader()), None, 0.0, 0.0),
+    "carried guide": (carried_guide, "AB", 0.115, 0.125),
+    "driving slider": (trammel, "AB", 0.18, 0.22),
+    "cylinder-rocker": (cylinder_rocker, "DB", 0.095, 0.105),
+}
+
+
+def _batch(name, n=7):
+    make, param, lo, hi = LINKAGES[name]
+    lk = make()
+    if param is None:  # vary the crank
+        param = next(iter(k for k, kind in lk.parameter_kinds.items() if kind == "length"))
+        lo, hi = 0.98 * lk.parameters[param], 1.02 * lk.parameters[param]
+    return lk, lk(**{param: np.linspace(lo, hi, n)[:, None]})
+
+
+def _phi(lk):
+    return lk.input_grid(90)
+
+
+def _same_motion(m1, m2, tol=1e-12):
+    def close(a, b, what):
+        a, b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(b, dtype=float))
+        err = np.max(np.abs(a - b)) / max(1.0, float(np.max(np.abs(a))))
+        assert err < tol, (what, err)
+
+    assert list(m1.points) == list(m2.points)
+    for k, p in m1.points.items():
+        for f in FIELDS:
+            close(getattr(p, f), getattr(m2.points[k], f), (k, f))
+    assert list(m1.links) == list(m2.links)
+    for k, t in m1.links.items():
+        for f in LINK_FIELDS:
+            close(getattr(t, f), getattr(m2.links[k], f), (k, f))
+    assert list(m1.sliders) == list(m2.sliders)
+    for k, t in m1.sliders.items():
+        for f in ("position", "velocity", "acceleration"):
+            close(getattr(t, f), getattr(m2.sliders[k], f), (k, f))
+    for k in m1.pressure_angles:
+        close(m1.pressure_angles[k], m2.pressure_angles[k], ("pressure", k))
+        close(m1.transmission_angles[k], m2.transmission_angles[k], ("transmission", k))
+    close(m1.pressure_angle, m2.pressure_angle, "pressure angle")
+    assert list(m1.extra) == list(m2.extra)
+    for k, v in m1.extra["assembly margins"].items():
+        close(v, m2.extra["assembly margins"][k], ("margin", k))
+    for k in m1.extra:
+        if k != "assembly margins":
+            close(m1.extra[k], m2.extra[k], k)
+
+
+@pytest.mark.parametrize("name", list(LINKAGES))
+@pytest.mark.parametrize("speed", [None, ms.rpm(600)])
+def test_kernel_equals_the_models_motion(name, speed):
+    lk, batch = _batch(name)
+    kernel = lkk.linkage_kernel(lk)
+    assert kernel is not None, name
+    phi = _phi(lk)
+    motion, good, failed = lkk.linkage_batch(batch, phi, speed=speed, kernel=kernel)
+    assert good.all() and not failed.any()
+    _same_motion(batch.motion(phi, speed=speed), motion)
+
+
+def test_kernel_is_one_per_structure_and_kept_on_disk():
+    lk = six_link()
+    k1 = lkk.linkage_kernel(lk)
+    assert lkk.linkage_kernel(lk(DB=0.081, AB=0.121)) is k1  # values are not the structure
+    assert lkk.linkage_kernel(lk.rename(DB="rocker")) is not k1
+    files = list(lkk.cache_dir().glob("mechsynth_linkage_*.py"))
+    assert any(f.read_text() == k1.source for f in files)
+    # the generated loop calls no libm sine or cosine: those of the input come from the grid,
+    # those of link angles from their arctan2's arguments
+    loop = k1.source.split("for j in range")[1]
+    assert "so.cos" not in loop and "so.sin" not in loop and "so.arccos" not in loop
+
+
+def test_cache_dir_follows_the_environment(tmp_path, monkeypatch):
+    monkeypatch.setenv("MECHSYNTH_CACHE_DIR", str(tmp_path / "c"))
+    assert lkk.cache_dir() == tmp_path / "c" / "linkage_kernels"
+    assert lkk.cache_dir().is_dir()
+
+
+def test_failed_designs_are_those_the_model_cannot_assemble():
+    """Rockers from far too short to far too long: the kernel's verdicts agree with the model
+    design by design (good: the model's values; failed: the model raises)."""
+    lk = six_link()
+    db = np.linspace(0.02, 0.2, 37)
+    batch = lk(DB=db[:, None])
+    motion, good, failed = lkk.linkage_batch(batch, PHI)
+    assert good.any() and failed.any()
+    for i, v in enumerate(db):
+        one = lk(DB=float(v))
+        if good[i] or failed[i]:
+            try:
+                m = one.motion(PHI)
+            except MechanismError:
+                assert failed[i], v
+            else:
+                assert good[i], v
+                np.testing.assert_allclose(
+                    motion.sliders["N"].position[i], m.sliders["N"].position, atol=1e-13
+                )
+
+
+def test_no_kernel_for_cam_followers_symbolic_values_or_angle_arrays():
+    import casadi as ca
+
+    assert lkk.linkage_kernel(five_link()) is None
+    assert lkk.linkage_batch(five_link(), PHI) is None
+    lk = six_link()
+    assert lkk.linkage_batch(lk(DB=ca.SX.sym("d")), PHI) is None
+    assert lkk.linkage_batch(lk, PHI.reshape(9, 10)) is None
+
+
+@pytest.mark.parametrize("name", ["six-link", "driving slider"])
+def test_linkage_chart_on_the_kernel_is_the_models(name, monkeypatch):
+    lk, _ = _batch(name)
+    param = LINKAGES[name][1]
+    ref = lk.parameters[param]
+    grid = {param: np.linspace(0.3 * ref, 1.8 * ref, 25)}
+    if param != "AB":
+        grid["AB"] = lk.parameters["AB"] * np.linspace(0.9, 1.1, 4)
+    measures = {
+        "peak velocity": peak_velocity(),
+        "pressure": lambda mech, m: np.max(m.pressure_angle, axis=-1),
+    }
+    kw = dict(angles=60, progress=False, speed=ms.rpm(100))
+    monkeypatch.setattr(charts, "LINKAGE_KERNEL_MIN", 0)
+    fast = charts.sweep(lk, grid, measures, **kw)
+    model = charts.sweep(lk, grid, measures, kernels=False, **kw)
+    assert fast.feasible.any() and not fast.feasible.all()
+    np.testing.assert_array_equal(fast.feasible, model.feasible)
+    for label in measures:
+        np.testing.assert_allclose(
+            fast.values[label].filled(0.0), model.values[label].filled(0.0), rtol=1e-12, atol=1e-15
+        )
+    assert fast.reason == model.reason
