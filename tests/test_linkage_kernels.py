@@ -166,3 +166,25 @@ def test_linkage_chart_on_the_kernel_is_the_models(name, monkeypatch):
             fast.values[label].filled(0.0), model.values[label].filled(0.0), rtol=1e-12, atol=1e-15
         )
     assert fast.reason == model.reason
+
+
+def test_kernel_scales_the_analogs_with_speed_and_acceleration():
+    """The kernel's rows at (omega, epsilon) are the model's time derivatives."""
+    lk, batch = _batch("six-link")
+    kernel = lkk.linkage_kernel(lk)
+    params = np.column_stack(
+        [np.broadcast_to(np.ravel(batch.parameters[k]), (7,)) for k in kernel.names]
+    )
+    w, e = ms.rpm(900), 40.0
+    out, flags = kernel(params, PHI, speed=(w, e))
+    assert np.all(flags[:, 0] == 0.0) and np.all(flags[:, 1] > 0.0)
+    ref = batch.motion(PHI, speed=w, epsilon=e)
+    at = {(kind, key): off for kind, key, off, _ in kernel.layout}
+    for f, r in zip(FIELDS, range(6)):
+        np.testing.assert_allclose(
+            out[at["points", "N"] + r], getattr(ref.points["N"], f), rtol=1e-12, atol=1e-12
+        )
+    for f, r in zip(("angle", "omega", "epsilon"), range(3)):
+        np.testing.assert_allclose(
+            out[at["links", "DB"] + r], getattr(ref.links["DB"], f), rtol=1e-12, atol=1e-12
+        )

@@ -1067,8 +1067,12 @@ class Linkage(Drawable):
                 raise MechanismError(f"phi must be finite {self._input_words()}")
         return self._motion(self._solve(phi), phi, omega, eps)
 
-    def _motion(self, st: _State, phi, omega, eps) -> Motion:
-        """The :class:`Motion` of a solved state (of the model, or of the compiled kernel)."""
+    def _motion(self, st: _State, phi, omega, eps, scaled=False) -> Motion:
+        """The :class:`Motion` of a solved state (of the model, or of the compiled kernel);
+        ``scaled``: its jets are time derivatives at ``omega`` and ``eps`` already."""
+        motion_omega, motion_eps = omega, eps
+        if scaled:
+            omega, eps = 1.0, 0.0
         crank_key = self._groups[0].key
         zero = 0.0 * st.points[crank_key].x
         points = {}
@@ -1090,8 +1094,8 @@ class Linkage(Drawable):
         extra = {"assembly margins": st.margins, **st.extra}
         return Motion(
             phi=phi,
-            omega=omega,
-            epsilon=eps,
+            omega=motion_omega,
+            epsilon=motion_eps,
             points=points,
             links=links,
             pressure_angle=pressure,

@@ -133,12 +133,15 @@ class LinkageKernel:
     serial: object
     parallel: object
 
-    def __call__(self, params: np.ndarray, phi: np.ndarray, out=None, flags=None, threads=None):
+    def __call__(
+        self, params: np.ndarray, phi: np.ndarray, out=None, flags=None, threads=None, speed=None
+    ):
         """Evaluate ``params`` (``(n, len(names))``) at the inputs ``phi`` (``(m,)``) into
         ``out`` (``(outputs, n, m)``) and ``flags`` (``(n, 2)``: per design 0 where every
         output is finite (else NaN) and its smallest assembly margin). ``threads`` None: numba's
         threads for batches of at least :data:`~mechsynth.kinematics.compiled.PARALLEL_MIN`
-        evaluations."""
+        evaluations. ``speed``: ``(omega, epsilon)`` of the input, which the analog rows are
+        turned into time derivatives with (None: the analogs)."""
         from .compiled import PARALLEL_MIN
 
         n, m = params.shape[0], phi.shape[0]
@@ -149,13 +152,14 @@ class LinkageKernel:
         parallel = (n * m >= PARALLEL_MIN) if threads is None else bool(threads)
         phi = np.array(phi, dtype=float)  # a writable copy: one array type per kernel
         c, s = np.cos(phi), np.sin(phi)
+        w, e = (1.0, 0.0) if speed is None else (float(speed[0]), float(speed[1]))
         if parallel:
             from .compiled import announce_compilation
 
             with announce_compilation("a linkage kernel's threaded loop"):
-                self.parallel(params, phi, c, s, out, flags)
+                self.parallel(params, phi, c, s, w, e, out, flags)
         else:
-            self.serial(params, phi, c, s, out, flags)
+            self.serial(params, phi, c, s, w, e, out, flags)
         return out, flags
 
 
@@ -203,8 +207,23 @@ def _stamp() -> str:
     return h.hexdigest()[:16]
 
 
-def _source(f, margins, stamp) -> str:
-    """The numba source of the traced function ``f`` (one design, a loop over inputs).
+def _orders(layout) -> dict:
+    """``{row: (order, row of the first derivative)}`` of the analog rows (order 1 or 2) of the
+    points', links' and sliders' jets."""
+    out = {}
+    for kind, _, off, _size in layout:
+        if kind == "points":
+            out.update({off + 2: (1, None), off + 3: (1, None)})
+            out.update({off + 4: (2, off + 2), off + 5: (2, off + 3)})
+        elif kind in ("links", "sliders"):
+            out.update({off + 1: (1, None), off + 2: (2, off + 1)})
+    return out
+
+
+def _source(f, layout, margins, stamp) -> str:
+    """The numba source of the traced function ``f`` (one design, a loop over inputs). The
+    analogs are written as time derivatives at the input's speed ``w`` and acceleration ``e``
+    (``d/dt = w d``, ``d2/dt2 = w^2 d2 + e d``); the finite test is on the analogs.
 
     Sines and cosines are resolved before they reach libm (whose scalar calls would keep the
     loop over inputs from being vectorized): of the input, from its cosines and sines computed
@@ -305,8 +324,9 @@ def _source(f, margins, stamp) -> str:
         "",
         "",
         '@numba.njit(error_model="numpy", cache=True)',
-        "def row(p, phi, cphi, sphi, out, flags, i):",
+        "def row(p, phi, cphi, sphi, w, e, out, flags, i):",
         *("    " + s for s in hoisted),
+        "    w2 = w * w",
         "    check = np.empty((2, phi.shape[0]))",
         "    for j in range(phi.shape[0]):",
         ind + "x = phi[j]",
@@ -317,8 +337,12 @@ def _source(f, margins, stamp) -> str:
     # per input, not accumulated: a running sum or minimum would keep the loop from being
     # vectorized (floating-point reductions are not reordered without fastmath)
     finite, least = ["0.0"], ["math.inf"]
+    orders = _orders(layout)
+    raw = dict(writes)
     for r, name in sorted(writes):
-        lines.append(ind + f"out[{r}, i, j] = {name}")
+        order, first = orders.get(r, (0, None))
+        value = (name, f"w * {name}", f"w2 * {name} + e * {raw.get(first)}")[order]
+        lines.append(ind + f"out[{r}, i, j] = {value}")
         finite.append(f"({name} - {name})")
         if r in margins:
             least = [f"min({least[0]}, {name})"]
@@ -330,15 +354,15 @@ def _source(f, margins, stamp) -> str:
         "",
         "",
         '@numba.njit(error_model="numpy", cache=True)',
-        "def serial(p, phi, cphi, sphi, out, flags):",
+        "def serial(p, phi, cphi, sphi, w, e, out, flags):",
         "    for i in range(p.shape[0]):",
-        "        row(p, phi, cphi, sphi, out, flags, i)",
+        "        row(p, phi, cphi, sphi, w, e, out, flags, i)",
         "",
         "",
         '@numba.njit(error_model="numpy", cache=True, parallel=True)',
-        "def parallel(p, phi, cphi, sphi, out, flags):",
+        "def parallel(p, phi, cphi, sphi, w, e, out, flags):",
         "    for i in numba.prange(p.shape[0]):",
-        "        row(p, phi, cphi, sphi, out, flags, i)",
+        "        row(p, phi, cphi, sphi, w, e, out, flags, i)",
         "",
     ]
     return "\n".join(lines)
@@ -404,7 +428,7 @@ def linkage_kernel(linkage) -> LinkageKernel | None:
             return _KERNELS[key]
         try:
             f, names, layout, margins = _trace(linkage)
-            source = _source(f, margins, _stamp())
+            source = _source(f, layout, margins, _stamp())
         except NotImplementedError:
             kernel = None
         else:
@@ -414,7 +438,7 @@ def linkage_kernel(linkage) -> LinkageKernel | None:
             with announce_compilation(f"a kernel for {linkage.name}'s structure"):
                 grid = np.zeros(1)
                 module.serial(
-                    np.ones((1, len(names))), grid, grid, grid, np.empty((n_out, 1, 1)),
+                    np.ones((1, len(names))), grid, grid, grid, 1.0, 0.0, np.empty((n_out, 1, 1)),
                     np.empty((1, 2)),
                 )  # fmt: skip
             kernel = LinkageKernel(
@@ -460,7 +484,10 @@ def linkage_batch(linkage, phi, speed=None, workspace=None, kernel=None):
         out = workspace.block(n, m, rows=kernel.outputs)
     else:
         out = np.empty((kernel.outputs, n, m))
-    _, flags = kernel(params, phi, out)
+    from .mechanism import speed_pair
+
+    omega, eps = speed_pair(speed, 0.0)
+    _, flags = kernel(params, phi, out, speed=(omega, eps))
     good = flags[:, 0] == 0.0
     failed = ~good & (flags[:, 1] < -1e-6)
     st = _State(phi, values, True, linkage._bodies)
@@ -473,7 +500,4 @@ def linkage_batch(linkage, phi, speed=None, workspace=None, kernel=None):
             target[key] = Jet(*rows)
         else:
             target[key] = rows[0]
-    from .mechanism import speed_pair
-
-    omega, eps = speed_pair(speed, 0.0)
-    return linkage._motion(st, phi, omega, eps), good, failed
+    return linkage._motion(st, phi, omega, eps, scaled=True), good, failed
