@@ -1,5 +1,8 @@
-"""Benchmark: a linkage chart (the numpy model: no compiled kernels) evaluated in this process
-and on a pool of spawned processes, one per core, in the same run.
+"""Benchmark: a linkage chart on the numpy model (``kernels=False``; a linkage's chart of at
+least ``charts.LINKAGE_KERNEL_MIN`` evaluations would otherwise run on its compiled kernel, see
+``bench_linkage_compiled.py``) evaluated in this process and on a pool of spawned processes, one
+per core, in the same run. The model's charts on a pool are what a linkage with a cam follower
+(no kernel) or a ``kernels=False`` sweep gets.
 
 The chart: paper 001's six-link over ``N x N`` values of the rocker DB and the extra rod KN, 360
 crank angles; measures: the striker's stroke and maximum pressure angle. The pool's time
@@ -28,7 +31,9 @@ def chart(n, executor):
     grid = {"DB": np.linspace(0.035, 0.05, n), "KN": np.linspace(0.06, 0.11, n)}
     measures = {"stroke": ob.stroke("N"), "pressure": ob.max_pressure_angle("N")}
     t = time.perf_counter()
-    ch = charts.sweep(six_link(), grid, measures, angles=360, progress=False, executor=executor)
+    ch = charts.sweep(
+        six_link(), grid, measures, angles=360, progress=False, executor=executor, kernels=False
+    )
     return ch, time.perf_counter() - t
 
 
