@@ -621,10 +621,11 @@ def _sweep_block(spec: _SweepSpec, c: int) -> _BlockResult | None:
             with np.errstate(all="ignore"):
                 got = measure_all(mech, motion, rows.size)
             store(rows[good], {label: v[good] for label, v in got.items()})
-        if failed.any():
-            if not reason[0]:
-                evaluate(rows[failed][:1])  # the model's message for the first
-            ok[rows[failed]] = False
+        lost = rows[failed]
+        if lost.size and not reason[0]:
+            evaluate(lost[:1])  # the model's verdict and message for the first
+            lost = lost[1:]
+        ok[lost] = False
         rest = rows[~good & ~failed]
         if rest.size:
             evaluate(rest)
