@@ -188,3 +188,15 @@ def test_kernel_scales_the_analogs_with_speed_and_acceleration():
         np.testing.assert_allclose(
             out[at["links", "DB"] + r], getattr(ref.links["DB"], f), rtol=1e-12, atol=1e-12
         )
+
+
+def test_threaded_loop_equals_the_serial_one():
+    lk, batch = _batch("six-link", n=16)
+    kernel = lkk.linkage_kernel(lk)
+    params = np.column_stack(
+        [np.broadcast_to(np.ravel(batch.parameters[k]), (16,)) for k in kernel.names]
+    )
+    serial, f1 = kernel(params, PHI, threads=False)
+    threaded, f2 = kernel(params[:, :].T.copy().T, PHI, threads=True)  # any layout of params
+    np.testing.assert_array_equal(serial, threaded)
+    np.testing.assert_array_equal(f1, f2)

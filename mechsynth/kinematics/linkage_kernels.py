@@ -144,6 +144,7 @@ class LinkageKernel:
         turned into time derivatives with (None: the analogs)."""
         from .compiled import PARALLEL_MIN
 
+        params = np.require(params, float, ["C", "W"])  # one array type per compiled kernel
         n, m = params.shape[0], phi.shape[0]
         if out is None:
             out = np.empty((self.outputs, n, m))
