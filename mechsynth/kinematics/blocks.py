@@ -117,8 +117,14 @@ def _failed(phi, *analogs):
     """True where a dyad's checks must look closer: an analog not finite (a toggle position,
     or NaN from a dyad that cannot be assembled), for numeric input with the crank angles
     given. One pass: the sum of the analogs is finite when they all are."""
-    if phi is None or ops.is_symbolic(phi, *analogs):
+    if phi is None:
         return False
+    # symbolic input is not checked (a numpy array never is: the type test alone passes it)
+    if type(phi) is not np.ndarray and ops.is_symbolic(phi):
+        return False
+    for x in analogs:
+        if type(x) is not np.ndarray and ops.is_symbolic(x):
+            return False
     for x in analogs:
         if not ops.finite(x):
             return True
@@ -178,7 +184,7 @@ def crank_pin(c, s, length, x0=0.0, y0=0.0) -> PointJet:
     """
     x, y = length * c, length * s
     # x is also the pin's dx: its position is a copy; y is held by the position alone
-    return PointJet(ops.plus(x0, x), _shifted(y, -y0), -y, x, -x, -y)
+    return PointJet(ops.plus(x0, x), ops.shifted(y, -y0), -y, x, -x, -y)
 
 
 def link_angle(p: PointJet, q: PointJet) -> Jet:
@@ -213,12 +219,15 @@ def coupler_point(base: PointJet, angle: Jet, u, v) -> PointJet:
 
 
 def _minus(a, b):
-    """``a - b``, or ``-b`` when ``a`` is the number 0 (a frame pivot's coordinate or analog)."""
+    """``a - b``, or ``-b`` when ``a`` is the number 0. The blocks call :func:`ops.minus
+    <mechsynth.kinematics.ops.minus>` (the zero test inline); this stays for kernels built
+    from a list of the block functions that names it."""
     return -b if ops.is_zero(a) else a - b
 
 
 def _shifted(x, c):
-    """``x - c``, or ``x`` itself when ``c`` is the number 0 (for the blocks' own use only)."""
+    """``x - c``, or ``x`` itself when ``c`` is the number 0: :func:`ops.shifted
+    <mechsynth.kinematics.ops.shifted>` for kernels that name it (see :func:`_minus`)."""
     return x if ops.is_zero(c) else x - c
 
 
@@ -238,7 +247,7 @@ def dyad_rrr(p1: PointJet, p2: PointJet, l1, l2, branch=1, phi=None):
     theta1 : Jet of the angle of link p1 -> C.
     theta2 : Jet of the angle of link p2 -> C.
     """
-    dx, dy = _minus(p2.x, p1.x), _minus(p2.y, p1.y)
+    dx, dy = ops.minus(p2.x, p1.x), ops.minus(p2.y, p1.y)
     d2 = dx * dx + dy * dy
     a = (l1 * l1 - l2 * l2 + d2) / (2.0 * d2)  # fraction of p1->p2 to the foot of C
     q = l1 * l1 / d2
@@ -248,19 +257,19 @@ def dyad_rrr(p1: PointJet, p2: PointJet, l1, l2, branch=1, phi=None):
         h = -h
     ex, ey = a * dx - h * dy, a * dy + h * dx  # p1 -> C
     cx, cy = p1.x + ex, p1.y + ey
-    fx, fy = _shifted(cx, p2.x), _shifted(cy, p2.y)  # p2 -> C
+    fx, fy = ops.shifted(cx, p2.x), ops.shifted(cy, p2.y)  # p2 -> C
     # The links turn C about p1 and p2: w1 J e - w2 J f = p2' - p1' = r (J a quarter turn);
     # dotted with f and e, with the cross product cr = e x f = l1 l2 sin(theta2 - theta1):
     # w1 = r . f / cr, w2 = r . e / cr. The second order is the same system with
     # r2 = p2'' - p1'' + w1^2 e - w2^2 f.
     cr = ex * fy - ey * fx
-    rx, ry = _minus(p2.dx, p1.dx), _minus(p2.dy, p1.dy)
+    rx, ry = ops.minus(p2.dx, p1.dx), ops.minus(p2.dy, p1.dy)
     w1 = (rx * fx + ry * fy) / cr
     w2 = (rx * ex + ry * ey) / cr
     q1, q2 = w1 * w1, w2 * w2
     m1x, m1y = q1 * ex, q1 * ey  # C's centripetal acceleration about p1, negated
-    rx2 = _minus(p2.ddx, p1.ddx) + m1x - q2 * fx
-    ry2 = _minus(p2.ddy, p1.ddy) + m1y - q2 * fy
+    rx2 = ops.minus(p2.ddx, p1.ddx) + m1x - q2 * fx
+    ry2 = ops.minus(p2.ddy, p1.ddy) + m1y - q2 * fy
     e1 = (rx2 * fx + ry2 * fy) / cr
     e2 = (rx2 * ex + ry2 * ey) / cr
     # the second analogs hold the first squared: they are not finite wherever those are not
@@ -328,7 +337,7 @@ def dyad_rrp(p: PointJet, length, guide_x=0.0, guide_y=0.0, guide_angle=0.0, bra
     :func:`_rrp_slide`), so its angle's analogs are ``a' = -h1 / w`` and
     ``a'' = -(h2 + hgt a'^2) / w``, and the fixed guide adds nothing to them.
     """
-    rx, ry = _shifted(p.x, guide_x), _shifted(p.y, guide_y)
+    rx, ry = ops.shifted(p.x, guide_x), ops.shifted(p.y, guide_y)
     along_x = ops.is_zero(guide_angle)  # a guide along +x: its frame is the plane's
     if along_x:
         ux, uy = 1.0, 0.0

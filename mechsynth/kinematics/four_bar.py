@@ -265,7 +265,7 @@ class FourBar(Mechanism):
             self.coupler,
             self.rocker,
             self.ground,
-            self.sigma,
+            _BRANCHES[self.branch],
             phi,
         )
         # the frame pivots' and the crank's tracks are constants: made, not computed (the

@@ -17,6 +17,8 @@ __all__ = [
     "zeros_like",
     "zero_rows",
     "plus",
+    "minus",
+    "shifted",
     "full_like",
     "sin",
     "cos",
@@ -70,6 +72,22 @@ def plus(c, x):
     return c + x
 
 
+def minus(a, b):
+    """``a - b``, or ``-b`` when ``a`` is the number 0 (a frame pivot's coordinate or analog,
+    for the blocks: ``is_zero`` inline)."""
+    if (type(a) is float or type(a) is int) and a == 0:
+        return -b
+    return a - b
+
+
+def shifted(x, c):
+    """``x - c``, or ``x`` itself when ``c`` is the number 0 (for the blocks' own use only:
+    ``x`` may be returned; ``is_zero`` inline)."""
+    if (type(c) is float or type(c) is int) and c == 0:
+        return x
+    return x - c
+
+
 def full_like(x, c):
     """A new array of the shape of ``x`` holding the number ``c``; ``c + 0 * x`` for anything
     else (an array of values broadcasts, a symbol stays one)."""
@@ -111,12 +129,12 @@ def cos_sin(phi):
     are remembered (a loop over designs or a sweep reuses one grid of crank angles): the grid is
     compared bit for bit, so an edited array is never mistaken for it. The arrays returned may
     be shared between calls: callers never change them in place."""
-    if type(phi) is not np.ndarray or phi.dtype != np.float64 or phi.size > _GRID_MAX:
+    if type(phi) is not np.ndarray or phi.dtype is not _FLOAT64 or phi.size > _GRID_MAX:
         return cos(phi), sin(phi)
     key = phi.tobytes()
     last = _GRID[0]
-    if last is not None and last[0] == phi.shape and last[1] == key:
-        return last[2], last[3]
+    if last is not None and last[1] == key and last[0] == phi.shape:  # bytes first: a new
+        return last[2], last[3]  # grid differs in them at once
     c, s = np.cos(phi), np.sin(phi)
     _GRID[0] = (phi.shape, key, c, s)
     return c, s
@@ -124,6 +142,9 @@ def cos_sin(phi):
 
 #: the last grid's shape, bytes, cosines and sines (one tuple: replaced in one step)
 _GRID: list = [None]
+#: numpy's float64 (a float array of another dtype object, e.g. byte-swapped, is not
+#: remembered)
+_FLOAT64 = np.dtype(np.float64)
 #: largest grid (angles) remembered: a grid of angles, not a batch's worth of memory
 _GRID_MAX = 1 << 16
 

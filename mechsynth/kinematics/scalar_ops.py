@@ -57,6 +57,16 @@ def plus(c, x):
 
 
 @_jit
+def minus(a, b):
+    return -b if a == 0.0 else a - b
+
+
+@_jit
+def shifted(x, c):
+    return x if c == 0.0 else x - c
+
+
+@_jit
 def zero_rows(x, k):
     return [0.0] * k
 
