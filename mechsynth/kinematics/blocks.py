@@ -218,19 +218,6 @@ def coupler_point(base: PointJet, angle: Jet, u, v) -> PointJet:
     )
 
 
-def _minus(a, b):
-    """``a - b``, or ``-b`` when ``a`` is the number 0. The blocks call :func:`ops.minus
-    <mechsynth.kinematics.ops.minus>` (the zero test inline); this stays for kernels built
-    from a list of the block functions that names it."""
-    return -b if ops.is_zero(a) else a - b
-
-
-def _shifted(x, c):
-    """``x - c``, or ``x`` itself when ``c`` is the number 0: :func:`ops.shifted
-    <mechsynth.kinematics.ops.shifted>` for kernels that name it (see :func:`_minus`)."""
-    return x if ops.is_zero(c) else x - c
-
-
 _RRR_APART = "RRR dyad: distance between its pivots outside [|l1 - l2|, l1 + l2]"
 _RRP_FAR = "RRP dyad: the point is farther from the guide than the link length"
 

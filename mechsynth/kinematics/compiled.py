@@ -454,8 +454,6 @@ def _kernels():
     model = [
         getattr(f, "__wrapped__", f)
         for f in (
-            blocks._minus,
-            blocks._shifted,
             blocks._root,
             blocks.link_angle,
             blocks.crank_pin,

@@ -280,8 +280,9 @@ class FourBar(Mechanism):
         o1 = PointTrack.of(*z[:6])
         o2 = PointTrack.of(ops.full_like(a.x, self.ground), *z[6:11])
         points = {"O1": o1, "A": a, "B": b, "O2": o2}
-        for name, (u, v) in (coupler_points or {}).items():
-            points[name] = coupler_point(a, coupler, u, v)
+        if coupler_points:
+            for name, (u, v) in coupler_points.items():
+                points[name] = coupler_point(a, coupler, u, v)
         # the angle between coupler and rocker, in [0, pi]: arccos(cos(difference)) without
         # its two transcendental passes (and exact where that loses digits, near 0 and pi)
         turn = ops.fabs(coupler.value - rocker.value)  # in [0, 2 pi)

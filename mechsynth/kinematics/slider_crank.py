@@ -153,8 +153,9 @@ class SliderCrank(Mechanism):
             z[6] if type(eps) is float and eps == 0.0 else ops.full_like(a.x, eps),
         )
         points = {"O": PointTrack.of(*z[:6]), "A": a, "B": b}
-        for name, (u, v) in (coupler_points or {}).items():
-            points[name] = coupler_point(a, rod, u, v)
+        if coupler_points:
+            for name, (u, v) in coupler_points.items():
+                points[name] = coupler_point(a, rod, u, v)
         # the rod's angle from the guide is within (-pi/2, pi/2) (B ahead of A): its size is
         # the pressure angle, arcsin(|offset - y_A| / rod)
         pressure = ops.fabs(rod.value)

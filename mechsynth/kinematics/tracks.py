@@ -215,16 +215,23 @@ class Motion:
         :func:`_point_track`)."""
         pt, lt, st = PointTrack, LinkTrack, SliderTrack
         if type(epsilon) is float and epsilon == 0.0 and type(omega) is float and omega == 1.0:
-            # the analogs themselves
+            # the analogs themselves, unpacked into the tracks' fields here (as _point_track,
+            # _link_track and _slider_track do: one call less per track)
             for k, p in points.items():
                 if type(p) is not pt:
-                    points[k] = _point_track(*p)
+                    points[k] = t = _new(pt)
+                    d = t.__dict__
+                    d["x"], d["y"], d["vx"], d["vy"], d["ax"], d["ay"] = p
             for k, j in links.items():
                 if type(j) is not lt:
-                    links[k] = _link_track(*j)
+                    links[k] = t = _new(lt)
+                    d = t.__dict__
+                    d["angle"], d["omega"], d["epsilon"] = j
             for k, j in sliders.items():
                 if type(j) is not st:
-                    sliders[k] = _slider_track(*j)
+                    sliders[k] = t = _new(st)
+                    d = t.__dict__
+                    d["position"], d["velocity"], d["acceleration"] = j
         else:
             for k, p in points.items():
                 if type(p) is not pt:
