@@ -277,8 +277,8 @@ class FourBar(Mechanism):
             ops.full_like(a.x, omega),
             z[11] if type(eps) is float and eps == 0.0 else ops.full_like(a.x, eps),
         )
-        o1 = PointTrack.of(*z[:6])
-        o2 = PointTrack.of(ops.full_like(a.x, self.ground), *z[6:11])
+        o1 = PointTrack.of(z[0], z[1], z[2], z[3], z[4], z[5])
+        o2 = PointTrack.of(ops.full_like(a.x, self.ground), z[6], z[7], z[8], z[9], z[10])
         points = {"O1": o1, "A": a, "B": b, "O2": o2}
         if coupler_points:
             for name, (u, v) in coupler_points.items():

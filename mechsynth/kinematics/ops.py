@@ -67,7 +67,7 @@ def plus(c, x):
     """``c + x`` as a new array: a copy of ``x`` when ``c`` is the number 0 (cheaper than the
     addition, and never ``x`` itself, which another output may hold)."""
     if type(x) is np.ndarray and (type(c) is float or type(c) is int) and c == 0:  # is_zero
-        if x.dtype.kind == "f":
+        if x.dtype is _FLOAT64 or x.dtype.kind == "f":  # numpy's float64 by identity first
             return x.copy()
     return c + x
 

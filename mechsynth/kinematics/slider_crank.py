@@ -152,7 +152,7 @@ class SliderCrank(Mechanism):
             ops.full_like(a.x, omega),
             z[6] if type(eps) is float and eps == 0.0 else ops.full_like(a.x, eps),
         )
-        points = {"O": PointTrack.of(*z[:6]), "A": a, "B": b}
+        points = {"O": PointTrack.of(z[0], z[1], z[2], z[3], z[4], z[5]), "A": a, "B": b}
         if coupler_points:
             for name, (u, v) in coupler_points.items():
                 points[name] = coupler_point(a, rod, u, v)
