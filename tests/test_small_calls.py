@@ -228,3 +228,34 @@ def test_one_design_batches_as_many():
         one = compiled._rows(near, {k: np.array([x]) for k, x in zip(names, p)}, *grid)
         two = compiled._rows(near, {k: np.array([x, x]) for k, x in zip(names, p)}, *grid)
         np.testing.assert_array_equal(np.concatenate([one, one + 1]), two)
+
+
+def test_dyads_quiet_only_their_own_warnings():
+    """The dyads' warning guard ignores 0/0 and x/0 inside them and nothing else: the caller's
+    other error handling holds inside, a changed one is followed, and the caller's is back
+    after the call, also after an error."""
+    from mechsynth.kinematics import blocks
+
+    probe = blocks._toggles_raise(np.geterr)
+    with np.errstate(over="raise", divide="warn", invalid="warn"):
+        inside = probe()
+        assert inside["over"] == "raise"
+        assert inside["divide"] == "ignore" and inside["invalid"] == "ignore"
+        assert np.geterr()["divide"] == "warn" and np.geterr()["invalid"] == "warn"
+    with np.errstate(over="ignore", under="raise"):
+        inside = probe()
+        assert inside["over"] == "ignore" and inside["under"] == "raise"
+    before = np.geterr()
+
+    def fails():
+        raise MechanismError("inside")
+
+    with pytest.raises(MechanismError, match="inside"):
+        blocks._toggles_raise(fails)()
+    assert np.geterr() == before
+    # a four-bar that cannot be assembled at some angles: the error, no numpy warning
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(MechanismError, match="cannot be assembled"):
+            ms.FourBar(3.0, 4.3, 1.0, 5.2, full_turn=False).motion(ms.cycle(36))
+    assert np.geterr() == before

@@ -153,10 +153,41 @@ def _check_toggle(what, phi, *analogs):
 _QUIET = np.errstate(divide="ignore", invalid="ignore")
 
 
+try:  # numpy >= 2 keeps its floating-point error handling in a context variable
+    from numpy._core.umath import _extobj_contextvar as _ERRSTATE
+    from numpy._core.umath import _make_extobj
+except ImportError:  # pragma: no cover - numpy's errstate decorator instead
+    _ERRSTATE = _make_extobj = None
+
+#: the error handling a dyad last met and the same with 0/0 and x/0 ignored, in one tuple
+_QUIET_OF: list = [(None, None)]
+
+
 def _toggles_raise(fn):
     """Run a dyad with numpy's 0/0 and x/0 warnings off: at a toggle position its analogs are
     inf or nan, and the dyad raises MechanismError for them instead. The undecorated function
-    (``__wrapped__``) is what the compiled kernels are built from."""
+    (``__wrapped__``) is what the compiled kernels are built from.
+
+    With numpy >= 2 this is ``np.errstate(divide="ignore", invalid="ignore")`` without its
+    cost per call: the quiet state is set in numpy's context variable itself and made again
+    only when the caller's error handling is another (numpy's states are immutable objects,
+    so the one met last is recognised by identity)."""
+    if _ERRSTATE is not None:
+        get, put, reset = _ERRSTATE.get, _ERRSTATE.set, _ERRSTATE.reset
+
+        @functools.wraps(fn)
+        def quiet(*args, **kwargs):
+            state = get()
+            last = _QUIET_OF[0]
+            if last[0] is not state:
+                last = _QUIET_OF[0] = (state, _make_extobj(divide="ignore", invalid="ignore"))
+            token = put(last[1])
+            try:
+                return fn(*args, **kwargs)
+            finally:
+                reset(token)
+
+        return quiet
     if _NUMPY_2:  # numpy's own decorator: no context manager object made per call
         return _QUIET(fn)
 
