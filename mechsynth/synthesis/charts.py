@@ -634,11 +634,11 @@ def _sweep_block(spec: _SweepSpec, c: int) -> _BlockResult | None:
     return result()
 
 
-#: design-angle evaluations above which a Linkage's sweep runs on a kernel compiled for its
+#: design-angle evaluations from which a Linkage's sweep runs on a kernel compiled for its
 #: structure (:mod:`~mechsynth.kinematics.linkage_kernels`): its first compilation costs about
-#: 3.5 s, later processes load it from the disk cache in about 0.3 s; the numpy model takes
-#: about 3 s for as many evaluations in a sweep (benchmarks/bench_linkage_compiled.py)
-LINKAGE_KERNEL_MIN = 3e6
+#: 4 s, later processes load it from the disk cache in about 0.7 s; the numpy model takes about
+#: 3.5 s for 1e7 evaluations in a sweep, the kernel about 0.6 s (bench_linkage_compiled.py)
+LINKAGE_KERNEL_MIN = 1e7
 
 
 def _linkage_kernel(spec):
@@ -835,8 +835,9 @@ def sweep(
         a pool of fresh processes, one per core, for this sweep (a script must guard its main
         code with ``if __name__ == "__main__":``). ``"auto"``: that pool when the motion runs
         on the numpy model (``kernels=False``, or a Linkage without a kernel) and the sweep has
-        more than :data:`POOL_MIN_EVALUATIONS` design-angle evaluations, else this process (the
-        compiled kernels already use every core); the command line's charts run this way. None
+        more than :data:`POOL_MIN_EVALUATIONS` design-angle evaluations, else this process (on the
+        compiled kernels a chart takes less than a pool of fresh processes needs to start); the
+        command line's charts run this way. None
         (default): the executor of an enclosing :func:`sweep_executor` block, else this
         process on ``workers`` threads (``"local"`` likewise).
 
