@@ -200,3 +200,25 @@ def test_threaded_loop_equals_the_serial_one():
     threaded, f2 = kernel(params[:, :].T.copy().T, PHI, threads=True)  # any layout of params
     np.testing.assert_array_equal(serial, threaded)
     np.testing.assert_array_equal(f1, f2)
+
+
+def test_ctrl_c_inside_a_compilation_interrupts_when_it_ends():
+    """A KeyboardInterrupt that LLVM's callback could only report as unraisable is held and
+    raised when the compilation block ends; other unraisable errors go to the usual hook."""
+    import sys
+    import types
+
+    from mechsynth.kinematics.compiled import announce_compilation
+
+    seen = []
+    previous = sys.unraisablehook
+    sys.unraisablehook = seen.append
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            with announce_compilation("a test block"):
+                sys.unraisablehook(types.SimpleNamespace(exc_value=KeyboardInterrupt()))
+                sys.unraisablehook(types.SimpleNamespace(exc_value=ValueError("other")))
+        assert [type(u.exc_value) for u in seen] == [ValueError]
+        assert sys.unraisablehook == seen.append  # restored
+    finally:
+        sys.unraisablehook = previous

@@ -543,11 +543,36 @@ def _kernel(kind: str, evaluations: int):
 
 
 @contextlib.contextmanager
+def _interrupt_after():
+    """Hold a Ctrl-C that lands in one of LLVM's callbacks during a compilation (Python would
+    print it as an ignored exception with its traceback, and the compilation would go on) and
+    raise it when the block ends."""
+    held = []
+    previous = sys.unraisablehook
+
+    def hook(unraisable):
+        if isinstance(unraisable.exc_value, KeyboardInterrupt):
+            held.append(unraisable.exc_value)
+        else:
+            previous(unraisable)
+
+    sys.unraisablehook = hook
+    try:
+        yield
+    finally:
+        sys.unraisablehook = previous
+    if held:
+        raise KeyboardInterrupt
+
+
+@contextlib.contextmanager
 def announce_compilation(what: str, after: float = 3.0):
     """Print one line to stderr if the block takes longer than ``after`` seconds (a numba
-    compilation rather than a load from its disk cache); at most once per process and ``what``."""
+    compilation rather than a load from its disk cache); at most once per process and ``what``.
+    A Ctrl-C during the block interrupts it (when it ends, if it lands inside LLVM)."""
     if what in _ANNOUNCED:
-        yield
+        with _interrupt_after():
+            yield
         return
     _ANNOUNCED.add(what)
     timer = threading.Timer(
@@ -561,7 +586,8 @@ def announce_compilation(what: str, after: float = 3.0):
     timer.daemon = True
     timer.start()
     try:
-        yield
+        with _interrupt_after():
+            yield
     finally:
         timer.cancel()
 
