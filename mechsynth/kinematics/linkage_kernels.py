@@ -121,14 +121,12 @@ class LinkageKernel:
         ``"sliders"`` (3 rows: value and analogs), ``"pressure"``, ``"transmission"``,
         ``"margins"``, ``"extra"`` (1 row).
     outputs : the number of rows.
-    margins : the rows of the assembly margins.
     source : the generated Python source.
     """
 
     names: tuple
     layout: tuple
     outputs: int
-    margins: tuple
     source: str
     serial: object
     parallel: object
@@ -142,7 +140,7 @@ class LinkageKernel:
         threads for batches of at least :data:`~mechsynth.kinematics.compiled.PARALLEL_MIN`
         evaluations. ``speed``: ``(omega, epsilon)`` of the input, which the analog rows are
         turned into time derivatives with (None: the analogs)."""
-        from .compiled import PARALLEL_MIN
+        from .compiled import PARALLEL_MIN, announce_compilation
 
         params = np.require(params, float, ["C", "W"])  # one array type per compiled kernel
         n, m = params.shape[0], phi.shape[0]
@@ -155,8 +153,6 @@ class LinkageKernel:
         c, s = np.cos(phi), np.sin(phi)
         w, e = (1.0, 0.0) if speed is None else (float(speed[0]), float(speed[1]))
         if parallel:
-            from .compiled import announce_compilation
-
             with announce_compilation("a linkage kernel's threaded loop"):
                 self.parallel(params, phi, c, s, w, e, out, flags)
         else:
@@ -166,7 +162,7 @@ class LinkageKernel:
 
 # -------------------------------------------------------------------------------- the trace
 def _trace(linkage):
-    """``(casadi Function (input, parameters) -> outputs, names, layout, margin rows)``."""
+    """``(casadi Function (input, parameters) -> outputs, parameter names, layout)``."""
     import casadi as ca
 
     names = tuple(linkage.parameters)
@@ -174,12 +170,10 @@ def _trace(linkage):
     x = ca.SX.sym("x")
     sym = linkage.with_parameters(**{k: p[i] for i, k in enumerate(names)})
     st = sym._solve(x, strict=True, hold=False)
-    rows, layout, margins = [], [], []
+    rows, layout = [], []
 
     def put(kind, key, values):
         layout.append((kind, key, len(rows), len(values)))
-        if kind == "margins":
-            margins.append(len(rows))
         rows.extend(ca.SX(v) for v in values)
 
     for kind in ("points", "links", "sliders"):
@@ -189,7 +183,7 @@ def _trace(linkage):
         for key, value in getattr(st, kind).items():
             put(kind, key, (value,))
     f = ca.Function("linkage", [x, p], [ca.vertcat(*rows)])
-    return f, names, tuple(layout), tuple(margins)
+    return f, names, tuple(layout)
 
 
 def _stamp() -> str:
@@ -221,7 +215,7 @@ def _orders(layout) -> dict:
     return out
 
 
-def _source(f, layout, margins, stamp) -> str:
+def _source(f, layout, stamp) -> str:
     """The numba source of the traced function ``f`` (one design, a loop over inputs). The
     analogs are written as time derivatives at the input's speed ``w`` and acceleration ``e``
     (``d/dt = w d``, ``d2/dt2 = w^2 d2 + e d``); the finite test is on the analogs.
@@ -291,9 +285,10 @@ def _source(f, layout, margins, stamp) -> str:
             dep = ins[0] == 0
         elif op == "OP_CONST":
             c = float(f.instruction_constant(k))
-            line = repr(c) if math.isfinite(c) else f"math.{'nan' if c != c else 'inf'}"
-            if c == -math.inf:
-                line = "-math.inf"
+            if math.isfinite(c):
+                line = repr(c)
+            else:
+                line = "math.nan" if c != c else ("-math.inf" if c < 0 else "math.inf")
             dep = False
         elif op == "OP_OUTPUT":
             writes.append((outs[1], var[ins[0]]))
@@ -339,6 +334,7 @@ def _source(f, layout, margins, stamp) -> str:
     # vectorized (floating-point reductions are not reordered without fastmath)
     finite, least = ["0.0"], ["math.inf"]
     orders = _orders(layout)
+    margins = {off for kind, _, off, _ in layout if kind == "margins"}
     raw = dict(writes)
     for r, name in sorted(writes):
         order, first = orders.get(r, (0, None))
@@ -419,17 +415,13 @@ def linkage_kernel(linkage) -> LinkageKernel | None:
 
     if not numba_available() or any(isinstance(g, FollowerGroup) for g in linkage.groups):
         return None
-    try:
-        key = _structure(linkage)
-        hash(key)
-    except TypeError:  # a group holding an unhashable value: traced every time
-        key = None
+    key = _structure(linkage)  # frozen groups of names (a follower's profile is not among them)
     with _LOCK:
-        if key is not None and key in _KERNELS:
+        if key in _KERNELS:
             return _KERNELS[key]
         try:
-            f, names, layout, margins = _trace(linkage)
-            source = _source(f, layout, margins, _stamp())
+            f, names, layout = _trace(linkage)
+            source = _source(f, layout, _stamp())
         except NotImplementedError:
             kernel = None
         else:
@@ -442,11 +434,8 @@ def linkage_kernel(linkage) -> LinkageKernel | None:
                     np.ones((1, len(names))), grid, grid, grid, 1.0, 0.0, np.empty((n_out, 1, 1)),
                     np.empty((1, 2)),
                 )  # fmt: skip
-            kernel = LinkageKernel(
-                names, layout, n_out, margins, source, module.serial, module.parallel
-            )
-        if key is not None:
-            _KERNELS[key] = kernel
+            kernel = LinkageKernel(names, layout, n_out, source, module.serial, module.parallel)
+        _KERNELS[key] = kernel
         return kernel
 
 
@@ -464,6 +453,7 @@ def linkage_batch(linkage, phi, speed=None, workspace=None, kernel=None):
     """
     from . import ops
     from .linkage_groups import _State
+    from .mechanism import speed_pair
     from .tracks import Jet, PointJet
 
     values = linkage.parameters
@@ -485,8 +475,6 @@ def linkage_batch(linkage, phi, speed=None, workspace=None, kernel=None):
         out = workspace.block(n, m, rows=kernel.outputs)
     else:
         out = np.empty((kernel.outputs, n, m))
-    from .mechanism import speed_pair
-
     omega, eps = speed_pair(speed, 0.0)
     _, flags = kernel(params, phi, out, speed=(omega, eps))
     good = flags[:, 0] == 0.0
