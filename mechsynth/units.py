@@ -27,28 +27,45 @@ __all__ = [
 
 def deg(value):
     """Degrees -> radians."""
-    return _scale(value, np.pi / 180.0)
+    return _scale(value, np.pi / 180.0, "deg: degrees")
 
 
 def to_deg(value):
     """Radians -> degrees."""
-    return _scale(value, 180.0 / np.pi)
+    return _scale(value, 180.0 / np.pi, "to_deg: an angle in rad")
 
 
-def _scale(value, factor):
+def _scale(value, factor, what="a quantity"):
+    """``value * factor`` as a float or a float array. Numbers only: a string ("30"), a
+    boolean, None or a complex number is refused (``MechanismError``) rather than converted;
+    NaN and infinities pass (results such as an infeasible chart cell convert too)."""
+    if type(value) is float or type(value) is int:
+        return float(value) * factor
+    if isinstance(value, (str, bytes, bool, np.bool_)) or value is None or (
+        isinstance(value, complex) or np.iscomplexobj(value)
+    ):
+        raise MechanismError(f"{what} must be a number or an array of numbers, got {value!r}")
     if np.ndim(value):
-        return np.asarray(value, dtype=float) * factor
-    return float(value) * factor
+        arr = np.asarray(value)
+        if arr.dtype.kind not in "iuf":
+            raise MechanismError(
+                f"{what} must be an array of real numbers, got {arr.dtype} values: {value!r}"
+            )
+        return arr.astype(float) * factor
+    try:
+        return float(value) * factor
+    except (TypeError, ValueError):
+        raise MechanismError(f"{what} must be a number, got {value!r}") from None
 
 
 def rpm(value):
     """Revolutions per minute -> rad/s."""
-    return _scale(value, 2.0 * np.pi / 60.0)
+    return _scale(value, 2.0 * np.pi / 60.0, "rpm: a speed in rpm")
 
 
 def to_rpm(value):
     """rad/s -> revolutions per minute."""
-    return _scale(value, 60.0 / (2.0 * np.pi))
+    return _scale(value, 60.0 / (2.0 * np.pi), "to_rpm: a speed in rad/s")
 
 
 def spm(value):
@@ -58,12 +75,12 @@ def spm(value):
 
 def inch(value):
     """Inches -> metres."""
-    return _scale(value, 0.0254)
+    return _scale(value, 0.0254, "inch: a length in inches")
 
 
 def to_inch(value):
     """Metres -> inches."""
-    return _scale(value, 1.0 / 0.0254)
+    return _scale(value, 1.0 / 0.0254, "to_inch: a length in m")
 
 
 def cycle(n: int = 360, *, start: float = 0.0, endpoint: bool = False) -> np.ndarray:
@@ -72,9 +89,10 @@ def cycle(n: int = 360, *, start: float = 0.0, endpoint: bool = False) -> np.nda
     The end point (``start + 2*pi``) is left out by default, so that every angle of the cycle is
     counted once in peaks and means.
     """
-    n = int(n)
-    if n < 2:
-        raise MechanismError(f"cycle: n must be at least 2, got {n}")
+    from .validate import MAX_ANGLES, integer, number
+
+    n = integer("cycle: n (the number of angles)", n, lo=2, hi=MAX_ANGLES)
+    start = number("cycle: start", start, "rad")
     return start + np.linspace(0.0, 2.0 * np.pi, n, endpoint=endpoint)
 
 

@@ -33,5 +33,25 @@ def test_dms():
 def test_cycle_excludes_endpoint_and_validates():
     phi = ms.cycle(4)
     np.testing.assert_allclose(phi, [0, math.pi / 2, math.pi, 3 * math.pi / 2])
-    with pytest.raises(ValueError, match="n must be at least 2"):
+    with pytest.raises(ValueError, match=r"n \(the number of angles\) must be between 2"):
         ms.cycle(1)
+    with pytest.raises(ms.MechanismError, match="whole number, got 2.5"):
+        ms.cycle(2.5)  # was silently 2 angles
+    with pytest.raises(ms.MechanismError, match="whole number"):
+        ms.cycle("360")
+    with pytest.raises(ms.MechanismError, match="start must be finite"):
+        ms.cycle(8, start=float("nan"))
+    np.testing.assert_allclose(ms.cycle(4.0), phi)  # a float with no fraction is a count
+
+
+@pytest.mark.parametrize("convert", [ms.deg, ms.to_deg, ms.rpm, ms.to_rpm, ms.inch, ms.to_inch])
+@pytest.mark.parametrize("bad", ["30", b"30", True, None, 1 + 2j, ["30"], np.array([1j])])
+def test_unit_helpers_refuse_what_is_not_a_number(convert, bad):
+    with pytest.raises(ms.MechanismError, match="must be"):
+        convert(bad)
+
+
+def test_unit_helpers_convert_numbers_and_arrays_with_nan():
+    assert ms.deg(np.float32(180)) == pytest.approx(math.pi)
+    assert ms.deg(180) == pytest.approx(math.pi)
+    np.testing.assert_allclose(ms.to_deg(np.array([np.pi, np.nan])), [180.0, np.nan])
