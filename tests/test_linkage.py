@@ -238,6 +238,30 @@ def test_assembly_failure_names_group_angle_and_condition():
     assert np.min(margins["B"]) < 0 and np.all(np.isfinite(margins["B"]))
 
 
+def test_builder_refuses_what_it_used_to_take_silently():
+    with pytest.raises(MechanismError, match=r"ground must be a dict .* got 'O' \(a str\)"):
+        ms.Linkage(ground="O")
+    with pytest.raises(MechanismError, match="ground must be a dict"):
+        ms.Linkage(ground=[(0, 0)])
+    with pytest.raises(MechanismError, match="name must be a non-empty string, got None"):
+        ms.Linkage(ground={"O": (0, 0)}, name=None)
+    lk = ms.Linkage(ground={"O": (0, 0), "D": (0.1, 0)})
+    with pytest.raises(MechanismError, match="link name must be an identifier, got ''"):
+        lk.crank("A", about="O", length=0.02, link="")
+    c = lk.crank("A", about="O", length=0.02)
+    for branch in (1.0, True, -1.0, np.True_):
+        with pytest.raises(MechanismError, match=r"branch must be \+1 or -1 \(an integer\)"):
+            c.rrr("B", ("A", 0.1), ("D", 0.1), branch=branch)
+    assert c.rrr("B", ("A", 0.1), ("D", 0.1), branch=np.int64(-1)).groups[-1].branch == -1
+    with pytest.raises(MechanismError, match="links must be a pair of link names"):
+        c.rrr("B", ("A", 0.1), ("D", 0.1), links="AB")
+    b = c.rrr("B", ("A", 0.1), ("D", 0.1))
+    with pytest.raises(MechanismError, match="origin and axis point must differ, got 'A' twice"):
+        b.attach("K", on=("A", "A"), along=0.01)
+    with pytest.raises(MechanismError, match="'O' is a ground point .* moving points: A, B"):
+        b.with_output("O")
+
+
 def test_builder_errors_name_what_is_wrong():
     lk = ms.Linkage(ground={"O": (0, 0), "D": (0.1, 0)})
     with pytest.raises(ValueError, match="add the driver first"):

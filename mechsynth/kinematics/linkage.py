@@ -96,8 +96,13 @@ def _check_value(name, kind, value):
 
 
 def _branch(value, what):
-    if value not in (1, -1):
-        raise MechanismError(f"{what}: branch must be +1 or -1, got {value!r}")
+    # an int, not 1.0 or True (which equal 1): a branch is a sign, not a number that rounds
+    if (
+        not isinstance(value, (int, np.integer))
+        or isinstance(value, (bool, np.bool_))
+        or value not in (1, -1)
+    ):
+        raise MechanismError(f"{what}: branch must be +1 or -1 (an integer), got {value!r}")
     return int(value)
 
 
@@ -209,7 +214,14 @@ class Linkage(Drawable):
     """
 
     def __init__(self, ground: Mapping[str, Any] | None = None, name: str = "linkage"):
-        self._name = str(name)
+        if not isinstance(name, str) or not name.strip():
+            raise MechanismError(f"a linkage's name must be a non-empty string, got {name!r}")
+        if ground is not None and not isinstance(ground, Mapping):
+            raise MechanismError(
+                "ground must be a dict {point name: (x, y)} of the frame's points, got "
+                f"{ground!r} (a {type(ground).__name__})"
+            )
+        self._name = name
         self._ground: tuple = ()
         self._groups: tuple = ()
         self._values: dict = {}
@@ -339,6 +351,10 @@ class Linkage(Drawable):
             ) from None
         self._known_point(p, what)
         self._known_point(q, what)
+        if p == q:
+            raise MechanismError(
+                f"{what}: the frame's origin and axis point must differ, got {p!r} twice"
+            )
         for name, pts in self._members.items():
             if p in pts and q in pts:
                 return Frame(name, p, q)
@@ -417,7 +433,7 @@ class Linkage(Drawable):
         new._known_point(about, what)
         if new._owner[about] != FRAME:
             raise MechanismError(f"{what}: the crank turns about a ground point; {about!r} moves")
-        link = new._check_new_body(link or f"{about}{point}")
+        link = new._check_new_body(f"{about}{point}" if link is None else link)
         params = (
             ("length", new._param(length, f"{about}{point}", "length", f"length of crank {link}")),
             ("phase", new._param(phase, "phase", "angle", "phase of the crank angle")),
@@ -461,7 +477,7 @@ class Linkage(Drawable):
         lo, hi = _travel(travel, what)
         new = self._copy()
         new._check_new_point(point)
-        link = new._check_new_body(link or point)
+        link = new._check_new_body(point if link is None else link)
         g, gparams = new._guide(guide, offset, point, what)
         if g.frame is not None:
             raise MechanismError(
@@ -562,7 +578,7 @@ class Linkage(Drawable):
         new._known_point(q, what)
         if p == q:
             raise MechanismError(f"{what}: the two points must differ, got {p!r} twice")
-        n1, n2 = links if links is not None else (f"{p}{point}", f"{q}{point}")
+        n1, n2 = _link_names(links, (f"{p}{point}", f"{q}{point}"), what)
         n1, n2 = new._check_new_body(n1), new._check_new_body(n2)
         params = (
             ("l1", new._param(l1, n1, "length", f"length of link {n1} ({p}-{point})")),
@@ -600,8 +616,8 @@ class Linkage(Drawable):
         new._check_new_point(point)
         p, length = _pair(rod, what, "rod")
         new._known_point(p, what)
-        link = new._check_new_body(link or f"{p}{point}")
-        slider = new._check_new_body(slider or new._free_body(point))
+        link = new._check_new_body(f"{p}{point}" if link is None else link)
+        slider = new._check_new_body(new._free_body(point) if slider is None else slider)
         rod_param = new._param(length, link, "length", f"length of rod {link} ({p}-{point})")
         g, gparams = new._guide(guide, offset, point, what)
         params = (("length", rod_param), *gparams)
@@ -638,7 +654,7 @@ class Linkage(Drawable):
         new._known_point(through, what)
         if about == through:
             raise MechanismError(f"{what}: about and through must differ, got {about!r} twice")
-        block = new._check_new_body(block or new._free_body(through))
+        block = new._check_new_body(new._free_body(through) if block is None else block)
         params = (
             ("offset", new._param(offset, f"{link}_offset", "offset", f"slot offset of {link}")),
         )
@@ -713,7 +729,7 @@ class Linkage(Drawable):
         new._check_new_point(point)
         new._check_new_point(f"{point}_contact")
         frame = new._frame(on, what)
-        slider = new._check_new_body(slider or new._free_body(point))
+        slider = new._check_new_body(new._free_body(point) if slider is None else slider)
         g, gparams = new._guide(guide, offset, point, what)
         if g.frame is not None:
             raise MechanismError(
@@ -753,6 +769,11 @@ class Linkage(Drawable):
         """The same linkage with ``point`` as its main output (``default_output``; its group's
         pressure angle is ``motion.pressure_angle``; a slider output is ``motion.slider``)."""
         self._known_point(point, "output")
+        if self._owner.get(point) == FRAME:
+            raise MechanismError(
+                f"output: {point!r} is a ground point (it does not move); moving points: "
+                + ", ".join(p for p in self.points if self._owner.get(p) != FRAME)
+            )
         new = self._copy()
         new._output = point
         return new._freeze()
@@ -1373,6 +1394,17 @@ def _input_words(text: str, angles) -> str:
         return f" at input displacement {s:.6g} m"
 
     return _CRANK_AT.sub(words, text)
+
+
+def _link_names(links, default, what):
+    """The two link names of a dyad: ``links=(name1, name2)``, or the default pair."""
+    if links is None:
+        return default
+    if isinstance(links, str) or not isinstance(links, (tuple, list)) or len(links) != 2:
+        raise MechanismError(
+            f"{what}: links must be a pair of link names (name1, name2), got {links!r}"
+        )
+    return tuple(links)
 
 
 def _travel(travel, what) -> tuple[float, float]:
