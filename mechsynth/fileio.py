@@ -128,6 +128,20 @@ def output_dir(out, create: bool = True) -> Path | None:
     return path
 
 
+def _target(path) -> Path:
+    """``path`` as a file to write: a name that is not empty and not an existing folder."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise MechanismError(f"a file name must be a string or a path, got {path!r}")
+    if isinstance(path, str) and not path.strip():
+        raise MechanismError(f"cannot write {path!r}: give a file name")
+    path = Path(path)
+    if not path.name:
+        raise MechanismError(f"cannot write {str(path)!r}: give a file name")
+    if path.is_dir():
+        raise MechanismError(f"cannot write {path}: it is a folder; give a file name")
+    return path
+
+
 @contextlib.contextmanager
 def atomic(path, mode: str = "w", **open_kwargs):
     """Open a temporary file beside ``path`` for writing and move it over ``path`` when the
@@ -141,7 +155,7 @@ def atomic(path, mode: str = "w", **open_kwargs):
     >>> (d / "x.txt").read_text()
     'done'
     """
-    path = Path(path)
+    path = _target(path)
     folder = path.parent if str(path.parent) else Path(".")
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=folder)
@@ -172,7 +186,7 @@ def atomic_path(path):
     when the block ends without an exception, removed otherwise."""
     import shutil
 
-    path = Path(path)
+    path = _target(path)
     folder = path.parent if str(path.parent) else Path(".")
     try:
         tmpdir = tempfile.mkdtemp(prefix=f".{path.name}.", suffix=".part", dir=folder)

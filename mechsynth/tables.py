@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import csv
 import io
-from pathlib import Path
 
 import numpy as np
 
@@ -87,9 +86,7 @@ def write_csv(columns: dict[str, np.ndarray], path=None):
         w.writerow([_cell(d.data[i], m[i]) for d, m in zip(data, masks)])
     if path is None:
         return buf.getvalue()
-    path = Path(path)
-    write_text(path, buf.getvalue())
-    return path
+    return write_text(path, buf.getvalue())
 
 
 def as_lists(columns: dict[str, np.ndarray]) -> dict[str, list]:

@@ -137,3 +137,21 @@ def test_ctrl_c_never_leaves_a_truncated_or_destroyed_file(tmp_path):
 @pytest.mark.skipif(os.name != "posix", reason="SIGINT to a child process")
 def test_ctrl_c_at_many_moments(tmp_path):
     _interrupt_run(tmp_path, [0.0, 0.01, 0.05, 0.1, 0.2, 0.5, 1.0])
+
+
+@pytest.mark.parametrize("bad", ["", "   ", "."])
+def test_a_writer_without_a_file_name_says_so(tmp_path, monkeypatch, bad):
+    monkeypatch.chdir(tmp_path)
+    m = ms.FourBar(crank=1.0, coupler=4.3, rocker=3.0, ground=5.2).motion(ms.cycle(8))
+    with pytest.raises(ms.MechanismError, match="give a file name"):
+        m.to_csv(bad)  # was an OSError about a '.part' file renamed over '.'
+    assert list(tmp_path.iterdir()) == []  # nothing left behind
+
+
+def test_a_writer_refuses_a_folder_and_a_non_path(tmp_path):
+    m = ms.FourBar(crank=1.0, coupler=4.3, rocker=3.0, ground=5.2).motion(ms.cycle(8))
+    with pytest.raises(ms.MechanismError, match="it is a folder; give a file name"):
+        m.to_csv(tmp_path)
+    with pytest.raises(ms.MechanismError, match="a file name must be a string or a path, got 3"):
+        m.to_csv(3)
+    assert list(tmp_path.iterdir()) == []
