@@ -5,7 +5,8 @@ and print machine-readable results with ``--json``.
 
 Exit codes: 0 success; 1 bad input or usage (a one-line message, argparse's usage errors
 included); 2 a solve that failed or ended infeasible; 3 an internal error (a bug: please report
-it, with the traceback ``--debug`` shows); 130 interrupted by Ctrl-C. No Python traceback
+it, with the traceback ``--debug`` shows); 130 interrupted by Ctrl-C; 143 terminated by SIGTERM
+(a batch system's stop), cleaned up as after Ctrl-C. No Python traceback
 reaches the terminal unless ``--debug`` is given.
 """
 
@@ -15,7 +16,7 @@ import argparse
 import contextlib
 import sys
 
-from . import __version__
+from . import __version__, cli_function, cli_motion, cli_nomogram, cli_path
 from .errors import MechanismError, SolverError
 from .fileio import save_figure, write_text
 from .jsonutil import dumps
@@ -27,11 +28,12 @@ EXIT_BAD_INPUT = 1
 EXIT_FAILED = 2
 EXIT_INTERNAL = 3
 EXIT_INTERRUPTED = 130
+EXIT_TERMINATED = 143
 
 EXIT_CODES = (
     "exit codes: 0 success; 1 bad input or usage (one line on stderr); 2 a solve failed or "
     "ended infeasible; 3 internal error (a bug: --debug shows its traceback); 130 interrupted "
-    "(Ctrl-C). Give --debug anywhere for Python tracebacks."
+    "(Ctrl-C); 143 terminated (SIGTERM). Give --debug anywhere for Python tracebacks."
 )
 
 
@@ -560,6 +562,22 @@ def _explore_run(args) -> int:
         raise MechanismError(f"cannot serve on {args.host}:{args.port}: {why}") from None
 
 
+# ------------------------------------------------------------------------------- synthesize
+def _add_synthesize(sub) -> None:
+    p = sub.add_parser(
+        "synthesize",
+        help="kinematic synthesis: function, motion (Burmester) and path generation",
+        description="Kinematic synthesis of four-bars and slider-cranks: a function generator "
+        "(Freudenstein), a coupler carried through poses (Burmester), a coupler point tracing "
+        "a path. Each writes figures, a CSV of the solutions and a TOML of the chosen design "
+        "into --out.",
+    )
+    ssub = p.add_subparsers(dest="synthesize_cmd", required=True, metavar="TASK")
+    cli_function.add_parser(ssub)
+    cli_motion.add_parser(ssub)
+    cli_path.add_parser(ssub)
+
+
 # ------------------------------------------------------------------------------- main
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
@@ -579,6 +597,8 @@ def build_parser() -> argparse.ArgumentParser:
     _add_pump_parser(sub)
     _add_animate(sub)
     _add_explore(sub)
+    _add_synthesize(sub)
+    cli_nomogram.add_parser(sub)
     return parser
 
 
@@ -603,9 +623,12 @@ def main(argv=None) -> int:
         _INTERRUPTED.append(signum)
         signal.default_int_handler(signum, frame)
 
-    previous = None
+    previous = {}
     if threading.current_thread() is threading.main_thread():
-        previous = signal.signal(signal.SIGINT, on_sigint)
+        # SIGTERM (a batch system's stop) ends a run as Ctrl-C does: temporary files removed,
+        # one line, its own exit code (128 + 15)
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            previous[sig] = signal.signal(sig, on_sigint)
     try:
         rc = _run(argv, debug)
         return _interrupted() if _INTERRUPTED and not debug else rc
@@ -620,11 +643,19 @@ def main(argv=None) -> int:
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_OK
     finally:
-        if previous is not None:
-            signal.signal(signal.SIGINT, previous)
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
 
 
 def _interrupted() -> int:
+    import signal
+
+    if signal.SIGTERM in _INTERRUPTED:
+        print(
+            "\nmechsynth: terminated (SIGTERM); files being written were left as they were",
+            file=sys.stderr,
+        )
+        return EXIT_TERMINATED
     print(
         "\nmechsynth: interrupted (Ctrl-C); files being written were left as they were",
         file=sys.stderr,

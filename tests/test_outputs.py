@@ -100,7 +100,7 @@ def test_manifest_lists_the_files_with_their_checksums(tmp_path):
         assert (out / e["file"]).stat().st_size == e["bytes"]
 
 
-def _interrupt_run(tmp_path, delays):
+def _interrupt_run(tmp_path, delays, sig=signal.SIGINT):
     out = tmp_path / "run"
     r = subprocess.run(_animate(out), capture_output=True, text=True, env=_env(), cwd=ROOT)
     assert r.returncode == 0, r.stderr
@@ -116,11 +116,13 @@ def _interrupt_run(tmp_path, delays):
         while not _leftovers(out) and proc.poll() is None and time.monotonic() - t0 < 300:
             time.sleep(0.005)
         time.sleep(delay)
-        proc.send_signal(signal.SIGINT)
+        proc.send_signal(sig)
         _, err = proc.communicate(timeout=300)
-        assert proc.returncode in (0, 130), err
-        if proc.returncode == 130:
-            assert "Traceback" not in err and "interrupted" in err
+        code, word = (130, "interrupted") if sig == signal.SIGINT else (143, "terminated")
+        assert proc.returncode in (0, code), err
+        if proc.returncode == code:
+            assert "Traceback" not in err and word in err
+            assert len(err.strip().splitlines()) == 1, err
         # every file is the previous complete one or a complete new one (the output is
         # deterministic: the same bytes); nothing half-written is left
         assert _leftovers(out) == []
@@ -131,6 +133,11 @@ def _interrupt_run(tmp_path, delays):
 @pytest.mark.skipif(os.name != "posix", reason="SIGINT to a child process")
 def test_ctrl_c_never_leaves_a_truncated_or_destroyed_file(tmp_path):
     _interrupt_run(tmp_path, [0.0])
+
+
+@pytest.mark.skipif(os.name != "posix", reason="SIGTERM to a child process")
+def test_sigterm_ends_a_run_as_ctrl_c_does(tmp_path):
+    _interrupt_run(tmp_path, [0.0, 0.05], sig=signal.SIGTERM)
 
 
 @pytest.mark.slow
