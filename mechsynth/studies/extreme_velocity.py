@@ -4,7 +4,10 @@ For each rod/crank ratio of Table 1 (centric, crank 1) the crank angle ``phi0`` 
 velocity analog ``S'_v`` and the coefficient ``lambda_s = S'_v phi_u / S_u`` are computed from the
 derived polynomial and compared with the published values. A second table checks offset designs:
 the derived polynomial's extrema against a bounded numeric search, and the printed polynomial's
-roots against the same (they disagree: errata).
+roots against the same (they disagree: errata). The derivative ``m0'`` printed in (3) lacks its
+minus sign (an erratum of the print only: the polynomial (4) was derived with the right sign).
+The reference chart the paper calls for ("reference charts", eqs. 4-7 solved for designers) is
+drawn as contours of both extreme velocity analogs and their crank angles over b/a and e/a.
 """
 
 from __future__ import annotations
@@ -55,10 +58,76 @@ TABLE_1 = (
 #: Offset designs (rod/crank, paper's e0 = e/a) for the check of the derived and printed (4).
 OFFSET_CASES = ((2.0, 0.3), (3.0, 0.5), (3.0, -0.8), (4.0, 1.0), (5.0, 2.0), (6.0, -0.4))
 
+#: The reference chart's grid: rod/crank and offset/crank (paper's e0 >= 0; e0 < 0 mirrors it).
+CHART_RATIOS = (1.2, 6.0)
+CHART_OFFSETS = (0.0, 2.0)
+#: designs closer than this (per crank length) to the full-turn limit b = a + |e| are left blank:
+#: the rod turns through 90 deg to the guide there and the velocity analog grows without bound.
+CHART_MARGIN = 0.05
+
+M0_PRIME_ERRATUM = (
+    "Paper 004, eq. (3): m0' is printed (e0 + sin phi) cos phi / m0; differentiating (1), "
+    "m0^2 = i^2 - (e0 + sin phi)^2, gives m0' = -(e0 + sin phi) cos phi / m0 (the minus sign is "
+    "missing). The printed s0' is right with the correct m0', and so is the degree-6 polynomial "
+    "(4) built from it (with the printed sign the squared condition is of degree 8)."
+)
+
 #: lambda_s published vs computed relative difference above which a row is listed as an erratum.
 LAMBDA_TOL = 1e-6
 #: Published angle deviation (arc-seconds) above which a row is listed as an erratum.
 ANGLE_TOL_ARCSEC = 60.0
+
+
+def m0(phi, i, e0):
+    """Paper 004's (1): ``m0 = sqrt(i^2 - (e0 + sin phi)^2)`` (per crank length)."""
+    w = e0 + np.sin(phi)
+    return np.sqrt(i * i - w * w)
+
+
+def m0_derivative(phi, i, e0):
+    """``dm0/dphi = -(e0 + sin phi) cos phi / m0``, differentiated from (1)."""
+    return -(e0 + np.sin(phi)) * np.cos(phi) / m0(phi, i, e0)
+
+
+def printed_m0_derivative(phi, i, e0):
+    """``m0'`` exactly as printed in (3), ``+(e0 + sin phi) cos phi / m0`` (wrong sign)."""
+    return -m0_derivative(phi, i, e0)
+
+
+def printed_acceleration_analog(phi, i, e0, m0_prime):
+    """The printed (3): ``s0' = [m0^2 cos + m0 (1 - 2 sin^2 - e0 sin) - m0' (e0 + sin) cos] /
+    m0^2`` with the derivative ``m0_prime`` (an array over ``phi``) supplied."""
+    s, c = np.sin(phi), np.cos(phi)
+    m = m0(phi, i, e0)
+    return (m * m * c + m * (1.0 - 2.0 * s * s - e0 * s) - m0_prime * (e0 + s) * c) / (m * m)
+
+
+def reference_chart(n_ratio=97, n_offset=81):
+    """The reference chart of paper 004: both extremes of the velocity analog over rod/crank
+    ``b/a`` and offset/crank ``e/a`` (paper's convention: ``s0`` towards the crank pivot).
+
+    Returns a dict of arrays on the ``(n_offset, n_ratio)`` grid: ``ratio``, ``offset``,
+    ``feasible`` (``b/a >= 1 + e/a + CHART_MARGIN``), ``s_max`` and ``phi_max`` (the paper's
+    ``S'_v`` per crank length and its crank angle in rad, the working stroke towards the pivot),
+    ``s_min`` and ``phi_min`` (the return stroke's extreme, negative), NaN where not feasible.
+    Offsets below zero are the mirror image: ``s_max(-e) = -s_min(e)``.
+    """
+    ratio = np.linspace(*CHART_RATIOS, n_ratio)[None, :]
+    offset = np.linspace(*CHART_OFFSETS, n_offset)[:, None]
+    feasible = ratio >= 1.0 + offset + CHART_MARGIN
+    i = np.where(feasible, ratio, 10.0)
+    e0 = np.where(feasible, offset, 0.0)
+    ev = extreme_velocity(1.0, i, -e0)  # mechsynth offset = -e
+    nan = np.full(feasible.shape, np.nan)
+    return {
+        "ratio": np.broadcast_to(ratio, feasible.shape),
+        "offset": np.broadcast_to(offset, feasible.shape),
+        "feasible": feasible,
+        "s_max": np.where(feasible, -ev.minimum.value, nan),
+        "phi_max": np.where(feasible, ev.minimum.angle, nan),
+        "s_min": np.where(feasible, -ev.maximum.value, nan),
+        "phi_min": np.where(feasible, ev.maximum.angle, nan),
+    }
 
 
 def table_1():
@@ -154,6 +223,37 @@ def offset_check():
     return rows
 
 
+def _chart_rows(chart):
+    """The feasible grid points of the reference chart as CSV rows (paper's convention)."""
+    ok = chart["feasible"]
+    return [
+        {
+            "b/a": float(r),
+            "e/a": float(e),
+            "S_v max (towards the pivot)": float(smax),
+            "phi at max [deg]": float(np.rad2deg(pmax)),
+            "s0 min (return)": float(smin),
+            "phi at min [deg]": float(np.rad2deg(pmin)),
+        }
+        for r, e, smax, pmax, smin, pmin in zip(
+            *(chart[k][ok] for k in ("ratio", "offset", "s_max", "phi_max", "s_min", "phi_min"))
+        )
+    ]
+
+
+def _chart_summary(chart):
+    ok = chart["feasible"]
+    return {
+        "ratio_range": list(CHART_RATIOS),
+        "offset_range": list(CHART_OFFSETS),
+        "grid": list(ok.shape),
+        "feasible_points": int(ok.sum()),
+        "margin": CHART_MARGIN,
+        "s_max_range": [float(np.nanmin(chart["s_max"])), float(np.nanmax(chart["s_max"]))],
+        "s_min_range": [float(np.nanmin(chart["s_min"])), float(np.nanmax(chart["s_min"]))],
+    }
+
+
 def _fmt(value):
     return "no root" if value is None else f"{value:.3g}"
 
@@ -198,11 +298,64 @@ def _figure(path):
         save_figure(fig, path, dpi=130)
 
 
+def _chart_figure(path, chart):
+    """The reference chart: contours of both extremes and their crank angles over b/a, e/a."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ..plotting import label_contours, prune_labels, style
+    from ..plotting import save as save_figure
+
+    x, y = chart["ratio"], chart["offset"]
+    panels = (
+        ("s_max", 1.0, "S'_v = max s0 (working stroke, towards the pivot), per crank length",
+         np.array([1.01, 1.02, 1.03, 1.05, 1.07, 1.1, 1.15, 1.2, 1.3, 1.4, 1.6, 2.0])),
+        ("phi_max", 180 / np.pi, "its crank angle φ0, deg", np.arange(40.0, 90.1, 5.0)),
+        ("s_min", -1.0, "|min s0| (return stroke), per crank length",
+         np.array([1.0, 1.005, 1.01, 1.02, 1.03, 1.05, 1.07, 1.1, 1.15, 1.2, 1.3])),
+        ("phi_min", 180 / np.pi, "its crank angle, deg", np.arange(240.0, 330.1, 5.0)),
+    )
+    with style():
+        fig, axes = plt.subplots(2, 2, figsize=(11, 8.5), layout="constrained")
+        for ax, (key, scale, title, levels) in zip(axes.ravel(), panels):
+            z = chart[key] * scale
+            lo, hi = np.nanmin(z), np.nanmax(z)
+            lv = levels[(levels > lo) & (levels < hi)]
+            cf = ax.contourf(x, y, z, levels=np.unique(np.r_[lo, lv, hi]), cmap="viridis")
+            cs = ax.contour(x, y, z, levels=lv, colors="k", linewidths=0.7)
+            label_contours(ax, cs, fmt="%.4g")
+            fig.colorbar(cf, ax=ax, shrink=0.9, format="%.4g")
+            edge = np.linspace(*CHART_OFFSETS, 50)
+            # blank up to the first feasible grid column, hatched where no full turn exists
+            step = x[0, 1] - x[0, 0]
+            ax.fill_betweenx(edge, CHART_RATIOS[0], 1.0 + edge + CHART_MARGIN + step,
+                             color="0.93", lw=0.0)
+            ax.fill_betweenx(edge, CHART_RATIOS[0], 1.0 + edge, fc="0.85", hatch="//",
+                             ec="0.55", lw=0.4)
+            ax.plot(1.0 + edge, edge, color="0.3", lw=1.0)
+            ax.set_xlim(*CHART_RATIOS)
+            ax.set_ylim(*CHART_OFFSETS)
+            ax.set_title(title, fontsize=9)
+            ax.set_xlabel("rod / crank b/a")
+            ax.set_ylabel("offset / crank e/a")
+        fig.suptitle(
+            "Paper 004's reference chart: extreme slider velocity analogs of the offset "
+            "slider-crank\n(hatched: b < a + e, no full turn; light grey: within "
+            f"{CHART_MARGIN:g} a of it; for e < 0 read the chart at |e|, max and |min| swapped)",
+            fontsize=10,
+        )
+        prune_labels(fig)
+        save_figure(fig, path, dpi=110)
+
+
 @takes_options(owner="study 'extreme-velocity'")
 def run(out=None) -> StudyResult:
     """Run the study; write ``table1.csv``, ``offset_check.csv``, ``velocity_analogs.png`` and an
     animation of the b/a = 2 design into ``out`` when given."""
-    names = ["Table 1", "offset designs"] + (["figure and animation"] if out is not None else [])
+    names = ["Table 1", "offset designs", "reference chart"]
+    names += ["figures and animation"] if out is not None else []
     with Stages("extreme-velocity", names) as stages:
         return _run(out, stages)
 
@@ -212,7 +365,9 @@ def _run(out, stages) -> StudyResult:
     rows = table_1()
     stages.next("offset designs")
     offsets = offset_check()
-    errata = list(ERRATA)
+    stages.next("reference chart")
+    chart = reference_chart()
+    errata = list(ERRATA) + [M0_PRIME_ERRATUM]
     bad = [r for r in rows if abs(r["lambda_s_relative_deviation"]) > LAMBDA_TOL]
     for r in rows:
         if abs(r["phi0_deviation_arcsec"]) > ANGLE_TOL_ARCSEC:
@@ -257,6 +412,16 @@ def _run(out, stages) -> StudyResult:
             f"{r['lambda_s_published']:10.7f} {r['lambda_s_computed']:10.7f} "
             f"{100 * r['lambda_s_relative_deviation']:7.3f}"
         )
+    summary = _chart_summary(chart)
+    lines += [
+        "",
+        f"Reference chart (the paper's 'reference charts' of (4)-(7)): {summary['grid'][1]} x "
+        f"{summary['grid'][0]} designs, b/a {CHART_RATIOS[0]:g}-{CHART_RATIOS[1]:g}, e/a "
+        f"{CHART_OFFSETS[0]:g}-{CHART_OFFSETS[1]:g} ({summary['feasible_points']} with a full "
+        f"turn and {CHART_MARGIN:g} a to spare); S'_v {summary['s_max_range'][0]:.4f}-"
+        f"{summary['s_max_range'][1]:.4f}, return-stroke extreme "
+        f"{summary['s_min_range'][0]:.4f} to {summary['s_min_range'][1]:.4f} per crank length",
+    ]
     lines += ["", "Offset designs: derived polynomial vs numeric search (paper's s0 convention)"]
     lines.append(
         f"{'b/a':>5} {'e/a':>5} {'s0 max':>10} {'at deg':>8} {'s0 min':>10} {'at deg':>8} "
@@ -271,14 +436,17 @@ def _run(out, stages) -> StudyResult:
 
     files = []
     if out is not None:
-        stages.next("figure and animation")
+        stages.next("figures and animation")
         out = Path(out)
         _write_csv(out / "table1.csv", rows)
         _write_csv(out / "offset_check.csv", offsets)
         _figure(out / "velocity_analogs.png")
+        _chart_figure(out / "extreme_velocity_chart.png", chart)
+        _write_csv(out / "extreme_velocity_chart.csv", _chart_rows(chart))
         design = SliderCrank(crank=1.0, rod=2.0)
         anim = design.animate(frames=36, dpi=60, trace=("B",))
         files = [out / "table1.csv", out / "offset_check.csv", out / "velocity_analogs.png"]
+        files += [out / "extreme_velocity_chart.png", out / "extreme_velocity_chart.csv"]
         files.append(anim.save(out / "slider_crank_b_a_2.gif"))
 
     data = {
@@ -286,5 +454,6 @@ def _run(out, stages) -> StudyResult:
         "rows": rows,
         "offset_check": offsets,
         "lambda_s_errata_rows": [r["lambda"] for r in bad],
+        "reference_chart": _chart_summary(chart),
     }
     return StudyResult("extreme-velocity", "\n".join(lines), data, files, errata)
