@@ -46,8 +46,47 @@ class _Parser(argparse.ArgumentParser):
         super().__init__(*args, **kwargs)
 
     def error(self, message):
-        self.print_usage(sys.stderr)
-        self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message}\n")
+        # one line, with the nearest known option or command for a misspelled one
+        hint = _suggestion(self, message)
+        self.exit(
+            EXIT_BAD_INPUT,
+            f"{self.prog}: error: {message}{hint} (see '{self.prog} --help')\n",
+        )
+
+
+def _option_strings(parser) -> set[str]:
+    """Every option string of ``parser`` and of its subcommands' parsers."""
+    found = set()
+    for action in parser._actions:
+        found.update(s for s in action.option_strings if s.startswith("--"))
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                found |= _option_strings(sub)
+    return found
+
+
+def _suggestion(parser, message: str) -> str:
+    """'; did you mean --out?' for an unrecognized option or an invalid choice close to a known
+    one, else ''."""
+    import difflib
+    import re
+
+    if message.startswith("unrecognized arguments:"):
+        known = sorted(_option_strings(parser))
+        words = message.split(":", 1)[1].split()
+        for word in words:
+            if word.startswith("-"):
+                close = difflib.get_close_matches(word.split("=")[0], known, n=1, cutoff=0.5)
+                if close:
+                    return f"; did you mean {close[0]}?"
+        return ""
+    m = re.match(r"argument .*: invalid choice: '(.*?)' \(choose from (.*)\)", message)
+    if m:
+        choices = re.findall(r"'([^']*)'", m.group(2))
+        close = difflib.get_close_matches(m.group(1), choices, n=1, cutoff=0.5)
+        if close:
+            return f"; did you mean '{close[0]}'?"
+    return ""
 
 
 UNITS = ("si", "mm-deg", "oilfield")

@@ -160,6 +160,23 @@ def test_usage_errors_exit_1_not_2(capsys):
 
 
 @pytest.mark.parametrize(
+    "argv, hint",
+    [
+        (["stdy", "list"], "did you mean 'study'?"),
+        (["study", "run", "extreme-velocity", "--ot", "x"], "did you mean --out?"),
+        (["study", "run", "extreme-velocity", "--jsn"], "did you mean --json?"),
+        (["optimize"], "the following arguments are required: problem"),
+    ],
+)
+def test_usage_errors_are_one_line_with_the_nearest_name(capsys, argv, hint):
+    with pytest.raises(SystemExit) as exc:
+        main(argv)
+    err = capsys.readouterr().err
+    assert exc.value.code == 1 and hint in err and err.count("\n") == 1, err
+    assert "--help'" in err
+
+
+@pytest.mark.parametrize(
     "argv, match",
     [
         (["optimize", "{tmp}"], "is a directory"),
