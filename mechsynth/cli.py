@@ -583,6 +583,10 @@ def _explore_run(args) -> int:
 
     if not 0 <= args.port <= 65535:
         raise MechanismError(f"--port must be 0 to 65535, got {args.port}")
+    if args.file is not None:  # the file's own faults first, named as such (not as the server's)
+        from .fileio import read_toml
+
+        read_toml(args.file, "explore file")
     try:
         return serve(
             args.file,

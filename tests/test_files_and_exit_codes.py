@@ -191,6 +191,11 @@ def test_usage_errors_are_one_line_with_the_nearest_name(capsys, argv, hint):
             "which is a file",
         ),
         (["pump", "analyze", str(UNIT), "--card", "{tmp}"], "is a directory"),
+        # the explorer names its file's fault (it said "cannot serve on 127.0.0.1:0")
+        (["explore", "{tmp}/nosuch.toml", "--no-browser"], "explore file"),
+        (["explore", "{tmp}", "--no-browser"], "is a directory"),
+        (["explore", os.devnull, "--no-browser"], "not a regular file"),
+        (["explore", "{file}", "--no-browser"], "not valid TOML"),
     ],
 )
 def test_bad_paths_exit_1_with_one_line(tmp_path, capsys, argv, match):
