@@ -18,7 +18,7 @@ import sys
 
 from . import __version__, cli_function, cli_motion, cli_nomogram, cli_path
 from .errors import MechanismError, SolverError
-from .fileio import save_figure, write_text
+from .fileio import output_dir, save_figure, write_text
 from .jsonutil import dumps
 
 __all__ = ["main", "build_parser"]
@@ -383,7 +383,6 @@ def _add_optimize(sub) -> None:
 
 
 def _optimize_run(args) -> int:
-    from pathlib import Path
 
     from .synthesis.problem_file import load_problem
 
@@ -397,8 +396,7 @@ def _optimize_run(args) -> int:
     res = spec.solve(**overrides)
     files = []
     if args.out:
-        out = Path(args.out)
-        out.mkdir(parents=True, exist_ok=True)
+        out = output_dir(args.out)
         write_text(out / "result.json", dumps(res.to_dict()) + "\n")
         write_text(out / "report.txt", res.report() + "\n")
         files += [out / "result.json", out / "report.txt"]
@@ -509,8 +507,7 @@ def _animate_run(args) -> int:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    out = output_dir(args.out)
     stem = Path(args.file).stem
     phi = design.turn_sign * np.deg2rad(args.angle)
     ax = design.draw(phi, trace=trace)

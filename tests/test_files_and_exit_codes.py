@@ -191,6 +191,8 @@ def test_usage_errors_are_one_line_with_the_nearest_name(capsys, argv, hint):
             "which is a file",
         ),
         (["pump", "analyze", str(UNIT), "--card", "{tmp}"], "is a directory"),
+        # an output folder that cannot be made says which and why (it said only "No such file")
+        (["study", "run", "extreme-velocity", "--out", "/proc/nope"], "cannot be created"),
         # the explorer names its file's fault (it said "cannot serve on 127.0.0.1:0")
         (["explore", "{tmp}/nosuch.toml", "--no-browser"], "explore file"),
         (["explore", "{tmp}", "--no-browser"], "is a directory"),

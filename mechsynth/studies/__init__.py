@@ -7,9 +7,9 @@ A study is a module with a ``run(out=None, **options) -> StudyResult`` function,
 from __future__ import annotations
 
 import importlib
-from pathlib import Path
 
 from ..errors import MechanismError
+from ..fileio import output_dir
 from ..report import StudyResult
 
 __all__ = ["StudyResult", "STUDIES", "get_study", "run_study"]
@@ -53,7 +53,5 @@ def get_study(name: str):
 
 def run_study(name: str, out=None, **options) -> StudyResult:
     """Run the study ``name``, writing figures and tables into ``out`` (a directory) if given."""
-    out_dir = None if out is None else Path(out)
-    if out_dir is not None:
-        out_dir.mkdir(parents=True, exist_ok=True)
+    out_dir = output_dir(out)
     return get_study(name).run(out=out_dir, **options)

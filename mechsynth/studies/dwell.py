@@ -31,6 +31,7 @@ import numba
 import numpy as np
 
 from ..errors import MechanismError
+from ..fileio import output_dir
 from ..machines.dwell import DwellSliderCrank
 from ..machines.dwell.metrics import dwell_metrics, dwell_window
 from ..options import Option, takes_options
@@ -571,8 +572,7 @@ def _run(out, tolerance, stroke, n, starts, dense, local, min_scale, workers, st
     files = []
     if out is not None:
         st.next(names[3])
-        out = Path(out)
-        out.mkdir(parents=True, exist_ok=True)
+        out = output_dir(out)
         files += _draw(best, tolerance, stroke, out)
     cb = cert.grid_best
     summary = "\n".join(

@@ -41,7 +41,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import MechanismError, UsageError
-from ..fileio import save_figure, save_npz
+from ..fileio import output_dir, save_figure, save_npz
 from ..kinematics.compiled import BatchWorkspace, batch_motion
 from ..kinematics.mechanism import input_grid
 from ..objectives.base import Measure
@@ -1118,8 +1118,7 @@ def chart_slider_crank(out, options):
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
-        out = Path(out)
-        out.mkdir(parents=True, exist_ok=True)
+        out = output_dir(out)
         files.append(chart.to_csv(out / "slider_crank_chart.csv"))
         files.append(chart.to_npz(out / "slider_crank_chart.npz"))
         fig = chart.plot(

@@ -65,7 +65,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..fileio import save_figure
+from ..fileio import output_dir, save_figure
 from ..kinematics.curves import Circle, Involute
 from ..kinematics.linkage import Linkage, Param
 from ..options import Option, chart_options
@@ -565,8 +565,7 @@ def chart_linkage(out, options):
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
-        out = Path(out)
-        out.mkdir(parents=True, exist_ok=True)
+        out = output_dir(out)
         stem = path.stem
         files.append(result.to_csv(out / f"{stem}_chart.csv"))
         files.append(result.to_npz(out / f"{stem}_chart.npz"))

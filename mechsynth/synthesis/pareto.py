@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import MechanismError
-from ..fileio import save_figure, write_text
+from ..fileio import output_dir, save_figure, write_text
 from ..objectives.base import Measure
 from ..options import Option, chart_options
 
@@ -514,8 +514,7 @@ def chart_pareto_slider_crank(out, options):
 
         from ..jsonutil import dumps
 
-        out = Path(out)
-        out.mkdir(parents=True, exist_ok=True)
+        out = output_dir(out)
         files.append(fr.to_csv(out / "slider_crank_pareto.csv"))
         write_text(out / "slider_crank_pareto.json", dumps(fr.to_dict()) + "\n")
         files.append(out / "slider_crank_pareto.json")

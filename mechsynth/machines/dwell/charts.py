@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import MechanismError
-from ...fileio import save_figure
+from ...fileio import output_dir, save_figure
 from ...options import Option, chart_options
 from .linkage import DwellSliderCrank
 from .metrics import best_window_width, dwell_metrics
@@ -403,8 +403,7 @@ def chart_dwell(out, options):
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
-        out = Path(out)
-        out.mkdir(parents=True, exist_ok=True)
+        out = output_dir(out)
         files.append(chart.to_csv(out / "dwell_chart.csv"))
         fig = chart.plot(out / "dwell_chart.png")
         save_figure(fig, out / "dwell_chart.svg")

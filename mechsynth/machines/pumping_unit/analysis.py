@@ -37,7 +37,7 @@ from typing import Any
 import numpy as np
 
 from ...errors import MechanismError
-from ...fileio import atomic, write_text
+from ...fileio import atomic, output_dir, write_text
 from ...report import StudyResult
 from ...units import spm as spm_to_rad_s
 from .beam_unit import BeamPumpingUnit, crank_speed
@@ -347,7 +347,7 @@ def _write(out, unit, theta, m, tc, pl, U, cv, data):
     from ...plotting import PALETTE, crank_axis, style
     from ...plotting import save as save_figure
 
-    out.mkdir(parents=True, exist_ok=True)
+    out = output_dir(out)
     files = []
     x = np.rad2deg(theta)
     with style():
