@@ -1,0 +1,780 @@
+"""Path generation: a four-bar whose coupler point passes as near as possible to given points.
+
+>>> import mechsynth as ms
+>>> pg = ms.path_generation([(0, 0), (1, 0.2), (2, 0), (1, -0.6)], starts=4)  # doctest: +SKIP
+>>> pg.error, pg.fourbar, pg.angles, pg.positions["P"]                       # doctest: +SKIP
+
+Formulation (the literature's, e.g. Cabrera, Simon and Prado, *Optimal synthesis of mechanisms
+with genetic algorithms*, Mech. Mach. Theory 37 (2002) 1165-1177):
+
+* variables: the four-bar's ``crank`` (r2), ``coupler`` (r3), ``rocker`` (r4), ``ground``
+  (r1), the coupler point ``u`` (along the coupler A -> B from A) and ``v`` (to its left)
+  (rcx, rcy), the crank pivot ``x0, y0``, the ground line's direction ``angle`` (theta0, from
+  +x to O1 -> O2) and the crank angle at each target ``phi_i`` (theta2, from the ground line,
+  counter-clockwise);
+* error: the sum over the targets of the squared distance between target and coupler point
+  (``objective="squares"``), or the largest squared distance (``objective="max"``, min-max by
+  an epigraph variable: exact, the targets are finitely many);
+* timing: ``"free"`` -- the angles are variables, visited in the given order within one turn
+  (``phi_{i+1} >= phi_i``, ``phi_N <= phi_1 + 2 pi``); ``"prescribed"`` -- the crank turns by
+  the given angles from the first target (``phi_i = phi_1 + angles_i - angles_1``, ``phi_1``
+  free);
+* constraints: the crank turns fully (Grashof crank: ``crank + ground < coupler + rocker`` and
+  ``|ground - crank| > |coupler - rocker|``, with the four-bar's own relative margin), so the
+  dyad never reaches a toggle and the linkage stays on one assembly branch over the whole turn
+  (no branch or circuit defect); optionally a smallest transmission angle over the turn (exact:
+  its extremes are at crank angles 0 and pi); bounds on every variable.
+
+The model is the library's four-bar (:func:`~mechsynth.kinematics.four_bar.four_bar_chain` and
+:func:`~mechsynth.kinematics.blocks.coupler_point`), traced on CasADi symbols for IPOPT's exact
+derivatives and evaluated in numpy for the checks. The global search starts IPOPT from the
+atlas's nearest curves by shape (:mod:`mechsynth.synthesis.path_atlas`), both branches.
+"""
+
+from __future__ import annotations
+
+import functools
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .. import validate
+from ..errors import MechanismError
+
+__all__ = ["path_generation", "PathResult", "PathSolution", "read_targets", "NAMES"]
+
+#: the design variables, in the solver's order
+NAMES = ("crank", "coupler", "rocker", "ground", "u", "v", "x0", "y0", "angle")
+_LENGTHS = ("crank", "coupler", "rocker", "ground")
+TIMINGS = ("free", "prescribed")
+OBJECTIVES = ("squares", "max")
+
+ERROR_DEFINITION = {
+    "squares": "sum over the targets of the squared distance between target and coupler point "
+    "(m^2)",
+    "max": "largest squared distance between a target and the coupler point (m^2)",
+}
+
+
+# ------------------------------------------------------------------------------ targets
+def read_targets(source, closed: bool = True) -> np.ndarray:
+    """Target points as an ``(N, 2)`` array (m) from an array-like of ``(x, y)`` rows or a CSV
+    file (two numeric columns ``x, y``; a header row of names is skipped).
+
+    Raises :class:`MechanismError` for fewer than 3 points, non-finite values, a wrong number
+    of columns, consecutive duplicates (and, for a closed path, the last equal to the first).
+    """
+    from pathlib import Path
+
+    if isinstance(source, (str, Path)):
+        pts = _read_csv(source)
+    else:
+        try:
+            pts = np.asarray(source, dtype=float)
+        except (TypeError, ValueError):
+            raise MechanismError(
+                f"targets must be (x, y) rows of numbers, got {source!r}"
+            ) from None
+        if pts.ndim != 2 or pts.shape[1] != 2:
+            raise MechanismError(
+                f"targets must be an (N, 2) array of (x, y) rows, got shape {pts.shape}"
+            )
+    bad = ~np.isfinite(pts)
+    if bad.any():
+        i = int(np.argwhere(bad)[0, 0])
+        raise MechanismError(f"target {i + 1} is not finite: {tuple(pts[i])}")
+    if len(pts) < 3:
+        raise MechanismError(f"path generation needs at least 3 targets, got {len(pts)}")
+    step = np.hypot(*np.diff(pts, axis=0).T)
+    scale = max(float(np.ptp(pts, axis=0).max()), 1e-300)
+    same = np.flatnonzero(step <= 1e-12 * scale)
+    if same.size:
+        i = int(same[0])
+        raise MechanismError(
+            f"targets {i + 1} and {i + 2} are the same point {tuple(pts[i])}: consecutive "
+            "targets must differ"
+        )
+    if closed and np.hypot(*(pts[-1] - pts[0])) <= 1e-12 * scale:
+        raise MechanismError(
+            f"the last target repeats the first {tuple(pts[0])}: a closed path joins them "
+            "itself (drop the last row)"
+        )
+    return pts
+
+
+def _read_csv(path) -> np.ndarray:
+    from ..fileio import read_text
+
+    text, p = read_text(path, "targets file")
+    rows = []
+    for k, line in enumerate(text.splitlines(), start=1):
+        line = line.strip()
+        if not line or line.startswith("#"):
+            continue
+        cells = [c.strip() for c in line.replace(";", ",").split(",")]
+        if len(cells) != 2:
+            raise MechanismError(
+                f"{p}: line {k}: expected 2 columns x, y, got {len(cells)}: {line!r}"
+            )
+        try:
+            rows.append((float(cells[0]), float(cells[1])))
+        except ValueError:
+            if rows:  # only the first row may be a header
+                raise MechanismError(f"{p}: line {k}: not two numbers: {line!r}") from None
+    if not rows:
+        raise MechanismError(f"{p}: no target rows (x, y)")
+    return np.asarray(rows, dtype=float)
+
+
+# ------------------------------------------------------------------------------ results
+@dataclass(frozen=True)
+class PathSolution:
+    """One design: a four-bar, its coupler point and its placement, with the crank angle at
+    each target.
+
+    Attributes
+    ----------
+    crank, coupler, rocker, ground : link lengths (m).
+    u, v : the coupler point, ``u`` along the coupler A -> B from A, ``v`` to its left (m).
+    x0, y0 : the crank pivot O1 (m); ``angle``: direction of O1 -> O2 (rad from +x).
+    branch : ``"open"`` or ``"crossed"`` (the four-bar's convention).
+    angles : crank angle at each target (rad, from the ground line O1 -> O2,
+        counter-clockwise).
+    error : the error of the problem's objective (m^2); ``sum_squares``, ``max_distance``
+        (m) for both measures.
+    transmission : (smallest, largest) transmission angle over the turn (rad; the smallest
+        counts an obtuse angle as pi minus it, the largest is the angle itself).
+    note : e.g. ``"cognate of #1"``.
+    """
+
+    crank: float
+    coupler: float
+    rocker: float
+    ground: float
+    u: float
+    v: float
+    x0: float
+    y0: float
+    angle: float
+    branch: str
+    angles: np.ndarray
+    error: float
+    sum_squares: float
+    max_distance: float
+    transmission: tuple[float, float]
+    note: str = ""
+
+    @property
+    def fourbar(self):
+        """The four-bar in its own frame (a :class:`~mechsynth.FourBar`)."""
+        from ..kinematics.four_bar import FourBar
+
+        return FourBar(
+            crank=self.crank,
+            coupler=self.coupler,
+            rocker=self.rocker,
+            ground=self.ground,
+            branch=self.branch,
+        )
+
+    @property
+    def coupler_point(self) -> tuple[float, float]:
+        """``(u, v)`` of the tracing point on the coupler (m)."""
+        return (self.u, self.v)
+
+    @property
+    def linkage(self):
+        """The design placed in the plane as a :class:`~mechsynth.Linkage`: ground points O1
+        and O2, crank O1A (its ``phase`` is the ground angle, so the linkage's crank angle is
+        this solution's), dyad A-B-O2 and the tracing point P on the coupler (its output)."""
+        from ..kinematics.linkage import Linkage
+
+        c, s = np.cos(self.angle), np.sin(self.angle)
+        o2 = (self.x0 + self.ground * c, self.y0 + self.ground * s)
+        return (
+            Linkage(ground={"O1": (self.x0, self.y0), "O2": o2}, name="path generator")
+            .crank("A", about="O1", length=self.crank, phase=self.angle)
+            .rrr("B", ("A", self.coupler), ("O2", self.rocker),
+                 branch=1 if self.branch == "open" else -1)
+            .attach("P", on=("A", "B"), along=self.u, left=self.v)
+            .with_output("P")
+        )  # fmt: skip
+
+    def trace(self, phi) -> np.ndarray:
+        """Coupler-point positions ``(len(phi), 2)`` (m) at crank angles ``phi`` (rad)."""
+        return self.positions(phi)["P"]
+
+    def positions(self, phi=None) -> dict[str, np.ndarray]:
+        """Joint positions ``{"O1", "A", "B", "O2", "P"}``, each ``(n, 2)`` (m), at crank
+        angles ``phi`` (rad; default: at the targets)."""
+        phi = self.angles if phi is None else np.atleast_1d(np.asarray(phi, dtype=float))
+        m = self.fourbar.motion(phi, coupler_points={"P": (self.u, self.v)})
+        c, s = np.cos(self.angle), np.sin(self.angle)
+        out = {}
+        for name in ("O1", "A", "B", "O2", "P"):
+            pt = m.points[name]
+            x, y = np.broadcast_to(pt.x, phi.shape), np.broadcast_to(pt.y, phi.shape)
+            out[name] = np.column_stack([self.x0 + c * x - s * y, self.y0 + s * x + c * y])
+        return out
+
+    def as_dict(self) -> dict:
+        d = {k: getattr(self, k) for k in (*NAMES, "branch", "error", "sum_squares")}
+        d.update(
+            max_distance=self.max_distance,
+            angles=[float(a) for a in self.angles],
+            transmission_min=float(self.transmission[0]),
+            transmission_max=float(self.transmission[1]),
+            note=self.note,
+        )
+        return d
+
+
+@dataclass(frozen=True)
+class PathResult:
+    """What :func:`path_generation` found.
+
+    Attributes
+    ----------
+    targets : ``(N, 2)`` target points (m).
+    best : the best design (a :class:`PathSolution`); ``design`` (a Linkage), ``fourbar``,
+        ``coupler_point``, ``error``, ``angles``, ``positions``, ``transmission`` read it.
+    solutions : distinct designs, best first (local optima of the starts, and the best
+        design's crank-driven cognate, named as such).
+    timing, objective, closed : the problem's settings; ``error_definition`` in words.
+    min_transmission : the smallest transmission angle asked (rad, 0 for none).
+    starts : local solves run; ``distinct``: distinct optima among them.
+    status : ``"optimal"``, ``"infeasible"`` (no start ended feasible), ``"interrupted"``.
+    seconds : wall time.
+    """
+
+    targets: np.ndarray
+    best: PathSolution | None
+    solutions: tuple[PathSolution, ...]
+    timing: str
+    objective: str
+    closed: bool
+    min_transmission: float
+    starts: int
+    distinct: int
+    status: str
+    seconds: float
+    error_definition: str
+    bounds: dict = field(default_factory=dict)
+    message: str = ""
+
+    @property
+    def success(self) -> bool:
+        return self.best is not None and self.status in ("optimal", "interrupted")
+
+    def _best(self) -> PathSolution:
+        if self.best is None:
+            raise MechanismError(f"path generation found no feasible design: {self.message}")
+        return self.best
+
+    @property
+    def design(self):
+        """The best design as a :class:`~mechsynth.Linkage` (tracing point ``"P"``)."""
+        return self._best().linkage
+
+    @property
+    def fourbar(self):
+        return self._best().fourbar
+
+    @property
+    def coupler_point(self):
+        return self._best().coupler_point
+
+    @property
+    def error(self) -> float:
+        return self._best().error
+
+    @property
+    def angles(self) -> np.ndarray:
+        return self._best().angles
+
+    @property
+    def positions(self) -> dict[str, np.ndarray]:
+        return self._best().positions()
+
+    @property
+    def transmission(self) -> tuple[float, float]:
+        return self._best().transmission
+
+    def summary(self) -> str:
+        """A readable report."""
+        lines = [
+            f"path generation: {len(self.targets)} targets ({'closed' if self.closed else 'open'}"
+            f" path), {self.timing} timing, objective {self.objective}",
+            f"error: {self.error_definition}",
+            f"starts: {self.starts}, distinct optima: {self.distinct}, status: {self.status}, "
+            f"{self.seconds:.2f} s",
+        ]
+        if self.min_transmission > 0:
+            mu = np.rad2deg(self.min_transmission)
+            lines.append(f"smallest transmission angle asked: {mu:.4g} deg")
+        if self.best is None:
+            lines.append(f"no feasible design: {self.message}")
+            return "\n".join(lines)
+        for k, s in enumerate(self.solutions[:5], start=1):
+            mu0, mu1 = np.rad2deg(s.transmission)
+            lines.append(
+                f"#{k}: error {s.error:.6g} m^2 (sum of squares {s.sum_squares:.6g}, largest "
+                f"distance {s.max_distance:.4g} m), transmission {mu0:.2f}-{mu1:.2f} deg, "
+                f"{s.branch}" + (f", {s.note}" if s.note else "")
+            )
+        b = self.best
+        lines.append(
+            "best: " + ", ".join(f"{k} {getattr(b, k):.6g}" for k in NAMES) + f", {b.branch} branch"
+        )
+        return "\n".join(lines)
+
+    def as_dict(self) -> dict:
+        return {
+            "targets": self.targets.tolist(),
+            "timing": self.timing,
+            "objective": self.objective,
+            "closed": self.closed,
+            "error_definition": self.error_definition,
+            "min_transmission_deg": float(np.rad2deg(self.min_transmission)),
+            "starts": self.starts,
+            "distinct": self.distinct,
+            "status": self.status,
+            "success": self.success,
+            "seconds": self.seconds,
+            "message": self.message,
+            "best": None if self.best is None else self.best.as_dict(),
+            "solutions": [s.as_dict() for s in self.solutions],
+        }
+
+    def figure(self, n: int = 360, show: int | None = None):
+        """Targets, the traced curve and the linkage drawn at the targets (at most ``show`` of
+        them, default all up to 8). Returns the matplotlib figure."""
+        from .path_figures import path_figure
+
+        return path_figure(self, n=n, show=show)
+
+    def animate(self, frames: int = 72, **kwargs):
+        """The best design moving over one turn (the library's animation of a Linkage)."""
+        return self.design.animate(frames=frames, **kwargs)
+
+
+# ------------------------------------------------------------------------------ NLP
+_IPOPT = {
+    "ipopt.print_level": 0,
+    "print_time": False,
+    "ipopt.sb": "yes",
+    "ipopt.tol": 1e-12,
+    "ipopt.acceptable_tol": 1e-8,
+    "ipopt.constr_viol_tol": 1e-10,
+    "ipopt.max_iter": 400,
+    "ipopt.mu_strategy": "adaptive",
+    "error_on_fail": False,
+    "show_eval_warnings": False,
+}
+
+
+@functools.lru_cache(maxsize=32)
+def _nlp(n: int, timing: str, objective: str, sigma: int):
+    """The CasADi NLP (cached per shape): variables ``NAMES`` + crank angles (+ epigraph),
+    parameters: targets (2n, x y interleaved), cos of the smallest transmission angle, margin
+    of the full turn, the prescribed angles (n). Returns ``(solver, rows, nz, fun)``: the
+    IPOPT solver, the constraint rows' names, the variable count and ``fun(z, p) -> (f,
+    grad f, g, residuals, their Jacobian)`` (residuals: the x then y differences)."""
+    import casadi as ca
+
+    from ..kinematics import ops
+    from ..kinematics.blocks import coupler_point
+    from ..kinematics.four_bar import FourBar, four_bar_chain
+
+    nphi = n if timing == "free" else 1
+    nz = len(NAMES) + nphi + (1 if objective == "max" else 0)
+    z = ca.SX.sym("z", nz)
+    p = ca.SX.sym("p", 3 * n + 2)
+    crank, coupler, rocker, ground, u, v, x0, y0, ang = (z[i] for i in range(len(NAMES)))
+    k = len(NAMES)
+    phi = z[k : k + n] if timing == "free" else z[k] + p[2 * n + 2 :]
+    a, _, cpl, _ = four_bar_chain(ops.cos(phi), ops.sin(phi), crank, coupler, rocker, ground, sigma)
+    q = coupler_point(a, cpl, u, v)
+    ca_, sa = ops.cos(ang), ops.sin(ang)
+    x = x0 + ca_ * q.x - sa * q.y
+    y = y0 + sa * q.x + ca_ * q.y
+    d2 = (x - p[0 : 2 * n : 2]) ** 2 + (y - p[1 : 2 * n : 2]) ** 2
+    rows, g = [], []
+    params = {"crank": crank, "coupler": coupler, "rocker": rocker, "ground": ground}
+    for name, expr in FourBar.feasibility_constraints(params, margin=0.0):
+        rows.append(name)
+        g.append(expr - p[2 * n + 1])
+    from .path_atlas import _transmission_extremes
+
+    c0, c1 = _transmission_extremes(crank, coupler, rocker, ground)
+    rows += ["transmission angle at crank angle 0", "transmission angle at crank angle 180 deg"]
+    g += [p[2 * n] - c0, c1 + p[2 * n]]
+    if timing == "free":
+        rows += [f"order: angle {i + 2} >= angle {i + 1}" for i in range(n - 1)]
+        g += [phi[i + 1] - phi[i] for i in range(n - 1)]
+        rows.append("order: within one turn")
+        g.append(2.0 * np.pi - (phi[n - 1] - phi[0]))
+    if objective == "max":
+        t = z[nz - 1]
+        rows += [f"epigraph {i + 1}" for i in range(n)]
+        g += [t - d2[i] for i in range(n)]
+        f = t
+    else:
+        f = ca.sum1(d2)
+    gg = ca.vertcat(*g)
+    solver = ca.nlpsol("path", "ipopt", {"x": z, "p": p, "f": f, "g": gg}, _IPOPT)
+    res = ca.vertcat(x - p[0 : 2 * n : 2], y - p[1 : 2 * n : 2])
+    fun = ca.Function("path_f", [z, p], [f, ca.gradient(f, z), gg, res, ca.jacobian(res, z)])
+    return solver, tuple(rows), nz, fun
+
+
+# ------------------------------------------------------------------------------ main
+def _default_bounds(t: np.ndarray) -> dict[str, tuple[float, float]]:
+    lo, hi = t.min(axis=0), t.max(axis=0)
+    d = float(np.hypot(*(hi - lo)))
+    return {
+        "crank": (d / 200, 5 * d),
+        "coupler": (d / 200, 10 * d),
+        "rocker": (d / 200, 10 * d),
+        "ground": (d / 200, 10 * d),
+        "u": (-10 * d, 10 * d),
+        "v": (-10 * d, 10 * d),
+        "x0": (lo[0] - 5 * d, hi[0] + 5 * d),
+        "y0": (lo[1] - 5 * d, hi[1] + 5 * d),
+        "angle": (-4 * np.pi, 4 * np.pi),
+    }
+
+
+def _check_bounds(bounds, t):
+    out = _default_bounds(t)
+    if bounds is None:
+        return out
+    if not isinstance(bounds, dict):
+        raise MechanismError(f"bounds must be a dict {{name: (lower, upper)}}, got {bounds!r}")
+    for name, b in bounds.items():
+        if name not in out:
+            raise MechanismError(f"bounds: no variable {name!r}; the variables: {', '.join(NAMES)}")
+        if not isinstance(b, (tuple, list, np.ndarray)) or len(b) != 2:
+            raise MechanismError(f"bounds[{name!r}] must be (lower, upper), got {b!r}")
+        lo = validate.number(f"bounds[{name!r}] lower", b[0])
+        hi = validate.number(f"bounds[{name!r}] upper", b[1])
+        if not lo < hi:
+            raise MechanismError(f"bounds[{name!r}]: need lower < upper, got ({lo}, {hi})")
+        if name in _LENGTHS and lo <= 0:
+            raise MechanismError(f"bounds[{name!r}]: a length's lower bound must be > 0, got {lo}")
+        out[name] = (lo, hi)
+    return out
+
+
+def evaluate(design, angles, targets, branch="open"):
+    """Squared distances ``(N,)`` between the targets and the coupler point of ``design``
+    (``{name: value}`` of :data:`NAMES`) at crank angles ``angles`` (rad), by the numpy
+    four-bar model (validated: the crank must turn fully)."""
+    sol = PathSolution(
+        **{k: float(design[k]) for k in NAMES},
+        branch=branch,
+        angles=np.asarray(angles, dtype=float),
+        error=np.nan,
+        sum_squares=np.nan,
+        max_distance=np.nan,
+        transmission=(np.nan, np.nan),
+    )
+    p = sol.trace(sol.angles)
+    return np.sum((p - np.asarray(targets, dtype=float)) ** 2, axis=1)
+
+
+def _transmission_range(fb, n=3600):
+    from ..units import cycle
+
+    mu = fb.motion(cycle(n)).transmission_angle
+    acute = np.minimum(mu, np.pi - mu)
+    return float(acute.min()), float(mu.max())
+
+
+def _solution(z, sigma, n, timing, given, centre, scale, targets, objective, note=""):
+    """A PathSolution from a solver vector ``z`` (normalized units), re-evaluated in numpy;
+    None when the design is not one (the crank cannot turn fully)."""
+    k = len(NAMES)
+    vals = dict(zip(NAMES, z[:k]))
+    for name in (*_LENGTHS, "u", "v"):
+        vals[name] = float(vals[name] * scale)
+    vals["x0"] = float(centre[0] + scale * vals["x0"])
+    vals["y0"] = float(centre[1] + scale * vals["y0"])
+    vals["angle"] = float(vals["angle"])
+    phi = np.asarray(z[k : k + n] if timing == "free" else z[k] + given, dtype=float)
+    return evaluated(vals, "open" if sigma > 0 else "crossed", phi, targets, objective, note)
+
+
+def evaluated(vals, branch, phi, targets, objective="squares", note=""):
+    """The :class:`PathSolution` of the design ``vals`` (``{name: value}`` of :data:`NAMES`,
+    SI) with crank angles ``phi`` at the ``targets``, evaluated by the numpy model: the
+    errors, and the transmission range over 3600 crank angles. None when the crank cannot
+    turn fully (the four-bar's check)."""
+    vals = {k: float(vals[k]) for k in NAMES}
+    phi = np.asarray(phi, dtype=float)
+    try:
+        d2 = evaluate(vals, phi, targets, branch)
+        fb = PathSolution(**vals, branch=branch, angles=phi, error=0.0, sum_squares=0.0,
+                          max_distance=0.0, transmission=(0.0, 0.0)).fourbar  # fmt: skip
+        tr = _transmission_range(fb)
+    except MechanismError:
+        return None
+    ss = float(d2.sum())
+    return PathSolution(
+        **vals,
+        branch=branch,
+        angles=phi,
+        error=ss if objective == "squares" else float(d2.max()),
+        sum_squares=ss,
+        max_distance=float(np.sqrt(d2.max())),
+        transmission=tr,
+        note=note,
+    )
+
+
+def _feasible(sol: PathSolution, timing, min_mu, bounds, tol=1e-6) -> str:
+    """Why ``sol`` breaks the problem's constraints ('' when it does not)."""
+    if sol.transmission[0] < min_mu - 1e-6:
+        return (
+            f"transmission angle {np.rad2deg(sol.transmission[0]):.4f} deg below "
+            f"{np.rad2deg(min_mu):.4f} deg"
+        )
+    if timing == "free":
+        step = np.diff(sol.angles)
+        if step.min(initial=0.0) < -tol or sol.angles[-1] - sol.angles[0] > 2 * np.pi + tol:
+            return "crank angles out of order"
+    for name, (lo, hi) in bounds.items():
+        x = getattr(sol, name)
+        if not lo - tol * max(1.0, abs(lo)) <= x <= hi + tol * max(1.0, abs(hi)):
+            return f"{name} = {x:.6g} outside its bounds ({lo:.6g}, {hi:.6g})"
+    return ""
+
+
+def _same(a: PathSolution, b: PathSolution, rtol=1e-4) -> bool:
+    if abs(a.error - b.error) > rtol * max(abs(a.error), abs(b.error)) + 1e-14:
+        return False
+    x = np.array([getattr(a, k) for k in (*_LENGTHS, "u", "v", "x0", "y0")])
+    y = np.array([getattr(b, k) for k in (*_LENGTHS, "u", "v", "x0", "y0")])
+    size = max(np.abs(x).max(), 1e-300)
+    return a.branch == b.branch and bool(np.abs(x - y).max() <= 1e-3 * size)
+
+
+def path_generation(
+    targets,
+    *,
+    timing: str = "free",
+    angles=None,
+    closed: bool = True,
+    min_transmission: float | None = None,
+    objective: str = "squares",
+    bounds: dict | None = None,
+    starts: int = 12,
+    time_limit: float | None = None,
+    feasibility_margin: float = 1e-3,
+    progress: bool | None = None,
+    mechanism: str = "four-bar",
+) -> PathResult:
+    """A four-bar whose coupler point passes as near as possible to ``targets``.
+
+    Parameters
+    ----------
+    targets : ``(N, 2)`` points (m) in the order the coupler point should visit them, or a CSV
+        file of ``x, y`` rows (see :func:`read_targets`).
+    timing : ``"free"`` (crank angles are variables, in order within one turn) or
+        ``"prescribed"`` (``angles`` gives the crank angle at each target, rad; only the
+        differences from the first count: the start is free).
+    angles : the prescribed crank angles (rad), with ``timing="prescribed"``.
+    closed : the targets lie on a closed path (the default; it matters for the shape seeds).
+    min_transmission : smallest transmission angle over the whole turn (rad), e.g.
+        ``ms.deg(30)``; None for none.
+    objective : ``"squares"`` (the sum of squared distances, the literature's error) or
+        ``"max"`` (the largest squared distance, min-max).
+    bounds : ``{name: (lower, upper)}`` (m, rad) for the variables of :data:`NAMES`; defaults
+        scale with the targets' extent ``D`` (lengths D/200 to 10 D, the crank to 5 D; pivot
+        within 5 D of the targets).
+    starts : number of local solves (IPOPT, exact derivatives), started from the atlas's
+        nearest curves by shape.
+    time_limit : stop starting new solves after this many seconds (the best so far is kept).
+    feasibility_margin : relative margin of the full-turn conditions (as ``FourBar``'s).
+    progress : a progress bar (None: on a terminal only).
+    mechanism : ``"four-bar"`` (the only one built so far).
+
+    Returns
+    -------
+    PathResult : the best design, its error, crank angles, joint positions and transmission
+        range, the distinct solutions, the number of starts. Ctrl-C stops the search and keeps
+        the best design found so far (status ``"interrupted"``).
+    """
+    t_start = time.perf_counter()
+    validate.option("mechanism", mechanism, ("four-bar",))
+    validate.option("timing", timing, TIMINGS)
+    validate.option("objective", objective, OBJECTIVES)
+    if not isinstance(closed, (bool, np.bool_)):
+        raise MechanismError(f"closed must be True or False, got {closed!r}")
+    t = read_targets(targets, closed=bool(closed))
+    n = len(t)
+    if timing == "prescribed":
+        if angles is None:
+            raise MechanismError("timing='prescribed' needs angles: the crank angle per target")
+        given = validate.real("angles", angles, "rad")
+        given = np.asarray(given, dtype=float).ravel()
+        if given.size != n:
+            raise MechanismError(f"angles: need one per target ({n}), got {given.size}")
+        given = given - given[0]
+    else:
+        if angles is not None:
+            raise MechanismError("angles are given only with timing='prescribed'")
+        given = np.zeros(n)
+        if n < 3:
+            raise MechanismError(f"free timing needs at least 3 targets, got {n}")
+    min_mu = 0.0
+    if min_transmission is not None:
+        min_mu = validate.number("min_transmission", min_transmission, "rad")
+        if not 0.0 <= min_mu < np.pi / 2:
+            raise MechanismError(
+                f"min_transmission must be in [0, 90) deg, got {np.rad2deg(min_mu):.6g} deg"
+            )
+    starts = validate.integer("starts", starts, lo=1, hi=10000)
+    margin = validate.nonnegative("feasibility_margin", feasibility_margin)
+    if time_limit is not None:
+        time_limit = validate.positive("time_limit", time_limit, "s")
+    bnds = _check_bounds(bounds, t)
+
+    centre = t.mean(axis=0)
+    scale = float(np.sqrt(np.mean(np.sum((t - centre) ** 2, axis=1))))
+    tn = (t - centre) / scale
+    nb = {}
+    for name, (lo, hi) in bnds.items():
+        if name in (*_LENGTHS, "u", "v"):
+            nb[name] = (lo / scale, hi / scale)
+        elif name in ("x0", "y0"):
+            c = centre[0 if name == "x0" else 1]
+            nb[name] = ((lo - c) / scale, (hi - c) / scale)
+        else:
+            nb[name] = (lo, hi)
+
+    from .path_atlas import seed
+
+    seeds = seed(tn, count=starts, min_mu=max(0.0, min_mu - np.deg2rad(10.0)))
+    nphi = n if timing == "free" else 1
+    P = np.concatenate([tn.ravel(), [np.cos(min_mu), margin], given])
+    found: list[PathSolution] = []
+    ran, status, why = 0, "optimal", ""
+    from ..progress import bar
+
+    it = bar(seeds, total=len(seeds), desc="path generation", enabled=progress, unit="start")
+    try:
+        for sd in it:
+            if time_limit is not None and time.perf_counter() - t_start > time_limit:
+                break
+            sigma = sd.branch
+            solver, rows, nz, fun = _nlp(n, timing, objective, sigma)
+            x0 = np.concatenate(
+                [
+                    sd.design,
+                    [sd.x0, sd.y0, sd.angle],
+                    sd.angles if timing == "free" else sd.angles[:1],
+                ]
+            )
+            lbx = [nb[k][0] for k in NAMES] + [-6 * np.pi] * nphi
+            ubx = [nb[k][1] for k in NAMES] + [6 * np.pi] * nphi
+            if objective == "max":
+                lbx.append(0.0)
+                ubx.append(np.inf)
+                x0 = np.append(x0, 4.0)
+            x0 = np.clip(x0, lbx, ubx)
+            ng = len(rows)
+            sol = solver(x0=x0, p=P, lbx=lbx, ubx=ubx, lbg=np.zeros(ng), ubg=np.full(ng, np.inf))
+            ran += 1
+            z = np.asarray(sol["x"], dtype=float).ravel()
+            if objective == "squares":
+                z = _polish(fun, z, P, lbx, ubx)
+            s = _solution(z, sigma, n, timing, given, centre, scale, t, objective)
+            if s is None:
+                continue
+            reason = _feasible(s, timing, min_mu, bnds)
+            if reason:
+                why = reason
+                continue
+            found.append(s)
+            if hasattr(it, "set_postfix_str"):
+                best = min(x.error for x in found)
+                it.set_postfix_str(f"best {best:.4g}")
+    except KeyboardInterrupt:
+        status = "interrupted"
+    finally:
+        if hasattr(it, "close"):
+            it.close()
+    found.sort(key=lambda s: s.error)
+    distinct: list[PathSolution] = []
+    for s in found:
+        if not any(_same(s, d) for d in distinct):
+            distinct.append(s)
+    n_distinct = len(distinct)
+    if distinct:
+        from .path_cognates import crank_cognate
+
+        cog = crank_cognate(distinct[0], t, objective)
+        if cog is not None and not _feasible(cog, timing, min_mu, bnds):
+            match = [i for i, d in enumerate(distinct) if _same(cog, d, rtol=1e-3)]
+            if match:
+                i = match[0]
+                distinct[i] = _with_note(distinct[i], "cognate of #1")
+            else:
+                distinct.insert(1, cog)
+    if not distinct and status != "interrupted":
+        status = "infeasible"
+    return PathResult(
+        targets=t,
+        best=distinct[0] if distinct else None,
+        solutions=tuple(distinct),
+        timing=timing,
+        objective=objective,
+        closed=bool(closed),
+        min_transmission=min_mu,
+        starts=ran,
+        distinct=n_distinct,
+        status=status,
+        seconds=time.perf_counter() - t_start,
+        error_definition=ERROR_DEFINITION[objective],
+        bounds=bnds,
+        message="" if distinct else (why or "no start ended on a design whose crank turns"),
+    )
+
+
+def _polish(fun, z, P, lbx, ubx):
+    """Gauss-Newton (scipy's trust region) on the residuals from IPOPT's point: an interior
+    point stops a barrier's width (about 1e-11) inside its inequalities; where none of them is
+    active the least-squares steps go on to round-off. Kept only when every constraint and
+    bound still holds and the error fell."""
+    from scipy.optimize import least_squares
+
+    f0, _, _, _, _ = fun(z, P)
+
+    def res(x):
+        return np.asarray(fun(x, P)[3], dtype=float).ravel()
+
+    def jac(x):
+        return np.asarray(fun(x, P)[4], dtype=float)
+
+    try:
+        out = least_squares(res, z, jac=jac, method="trf", xtol=1e-15, ftol=1e-15,
+                            gtol=1e-15, max_nfev=30)  # fmt: skip
+    except (ValueError, np.linalg.LinAlgError):
+        return z
+    f1, _, g1, _, _ = fun(out.x, P)
+    g1 = np.asarray(g1, dtype=float).ravel()
+    ok = (
+        np.all(np.isfinite(out.x))
+        and float(f1) < float(f0)
+        and g1.min(initial=0.0) >= -1e-12
+        and np.all(out.x >= np.asarray(lbx)) and np.all(out.x <= np.asarray(ubx))
+    )  # fmt: skip
+    return out.x if ok else z
+
+
+def _with_note(s: PathSolution, note: str) -> PathSolution:
+    from dataclasses import replace
+
+    return replace(s, note=note)
