@@ -38,7 +38,7 @@ def test_newton_law_bookkeeping(mt, e):
 
 @pytest.mark.parametrize("e", [-0.1, 1.01, float("nan")])
 def test_bad_restitution_raises(e):
-    with pytest.raises(ms.MechanismError, match="restitution e must lie in"):
+    with pytest.raises(ms.MechanismError, match="restitution e must (lie in|be finite)"):
         Tool(1.0, e)
 
 

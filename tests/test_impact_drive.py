@@ -115,3 +115,36 @@ def test_bad_input(machine):
         steady_state(m, method="euler")
     with pytest.raises(ms.MechanismError, match="motor cannot carry"):
         motor_for(m.replace(tool=Tool(30.0, 0.0), inertias={**INERTIAS, "N": (40.0, (0, 0), 0)}))
+
+
+def test_bad_input_is_refused_at_the_door(machine):
+    """Each of these raised a bare exception, returned NaN or 0, or was taken silently."""
+    from mechsynth.machines.impact.impact import newton_impact
+    from mechsynth.machines.impact.synthesis import impact_problem
+
+    m, _ = machine
+    with pytest.raises(ms.MechanismError, match="striker speed v must be finite, got nan"):
+        newton_impact(3.0, float("nan"), Tool())  # returned NaN energies
+    with pytest.raises(ms.MechanismError, match="tool mass must be a number"):
+        Tool(mass="fast")
+    with pytest.raises(ms.MechanismError, match="linkage must be a Linkage .* got 42"):
+        ImpactMachine(42)  # AttributeError
+    with pytest.raises(ms.MechanismError, match="speed_rpm must be a number"):
+        ImpactMachine(six_link(), INERTIAS, speed_rpm=None)  # TypeError
+    with pytest.raises(ms.MechanismError, match="gear_ratio must be positive"):
+        m.replace(gear_ratio=-1.0)
+    with pytest.raises(ms.MechanismError, match="gear_ratio must be positive"):
+        motor_for(m, -2.0)
+    with pytest.raises(ms.MechanismError, match="no field 'restitution' .*tool=Tool"):
+        m.replace(restitution=2)  # a bare TypeError
+    with pytest.raises(ms.MechanismError, match="samples must be between 2"):
+        start_up(m, samples=0)  # IndexError
+    with pytest.raises(ms.MechanismError, match=r"delta .* must lie in \(0, 1\)"):
+        size_flywheel(m, 2.0)  # returned 0
+    for kw, match in [
+        ({"stroke": 0}, "stroke must be positive"),
+        ({"max_joint_force": -1}, "max_joint_force must be positive"),
+        ({"min_transmission_deg": 120}, r"must lie in \[0, 90\) deg"),  # solved 28 s
+    ]:
+        with pytest.raises(ms.MechanismError, match=match):
+            impact_problem(m, **kw)

@@ -21,12 +21,12 @@ gear referred to the crank, flywheel).
 from __future__ import annotations
 
 import dataclasses
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from ... import validate
 from ...dynamics.equation_of_motion import integrate_speed, quartic_coefficients
 from ...dynamics.inertia import reduced_inertia
 from ...dynamics.motor import InductionMotor
@@ -98,11 +98,37 @@ class ImpactMachine:
     gear_ratio: float | None = None
 
     def __post_init__(self):
-        for name in ("flywheel", "psi", "gamma", "speed_rpm"):
-            v = float(getattr(self, name))
-            if not math.isfinite(v):
-                raise MechanismError(f"{name} must be finite, got {getattr(self, name)}")
-            object.__setattr__(self, name, v)
+        if not isinstance(self.linkage, Linkage):
+            raise MechanismError(
+                "linkage must be a Linkage (ms.six_link(), ms.five_link() or ms.crank_rocker()), "
+                f"got {self.linkage!r} (a {type(self.linkage).__name__})"
+            )
+        if not isinstance(self.tool, Tool):
+            raise MechanismError(f"tool must be a Tool, got {self.tool!r}")
+        if not isinstance(self.inertias, Mapping):
+            raise MechanismError(
+                f"inertias must be a dict {{body: (mass, (u, v), J)}}, got {self.inertias!r}"
+            )
+        units = {"flywheel": "kg m^2", "psi": "rad", "gamma": "rad", "speed_rpm": "rpm"}
+        for name, unit in units.items():
+            object.__setattr__(self, name, validate.number(name, getattr(self, name), unit))
+        if self.gear_ratio is not None:
+            object.__setattr__(
+                self, "gear_ratio", validate.number("gear_ratio", self.gear_ratio)
+            )
+            if self.gear_ratio <= 0:
+                raise MechanismError(
+                    f"gear_ratio must be positive (motor speed / crank speed), got "
+                    f"{self.gear_ratio}"
+                )
+        if self.sense is not None and (
+            isinstance(self.sense, (bool, np.bool_)) or self.sense not in (1, -1)
+        ):
+            raise MechanismError(f"sense must be +1, -1 or None, got {self.sense!r}")
+        if self.anvil is not None:
+            object.__setattr__(self, "anvil", validate.number("anvil", self.anvil, "m"))
+        if not isinstance(self.striker, str):
+            raise MechanismError(f"striker must be a point name, got {self.striker!r}")
         if self.flywheel < 0:
             raise MechanismError(
                 f"flywheel must be a non-negative inertia (kg m^2), got {self.flywheel}"
@@ -126,6 +152,14 @@ class ImpactMachine:
         object.__setattr__(self, "inertias", dict(self.inertias))
 
     def replace(self, **changes) -> ImpactMachine:
+        """The same machine with other fields (the tool's are changed through ``tool=``)."""
+        fields = [f.name for f in dataclasses.fields(self)]
+        unknown = [k for k in changes if k not in fields]
+        if unknown:
+            hint = " (a Tool's: tool=Tool(...))" if {"mass", "restitution"} & set(unknown) else ""
+            raise MechanismError(
+                f"ImpactMachine has no field {unknown[0]!r}{hint}; its fields: {', '.join(fields)}"
+            )
         return dataclasses.replace(self, **changes)
 
     @property
@@ -194,7 +228,12 @@ def motor_for(machine: ImpactMachine, gear_ratio=None) -> InductionMotor:
         )
 
     if gear_ratio is not None:
-        return motor(float(gear_ratio))
+        u = validate.number("gear_ratio", gear_ratio)
+        if u <= 0:
+            raise MechanismError(
+                f"gear_ratio must be positive (motor speed / crank speed), got {gear_ratio}"
+            )
+        return motor(u)
     w = machine.omega
     base = motor(1.0)
     u = base.sync_speed / w
@@ -383,6 +422,8 @@ def start_up(machine: ImpactMachine, motor=None, *, duration=0.6, samples=3000, 
     """Integrate from rest at crank angle 0 for ``duration`` s (time domain: ``phi' = omega``,
     ``omega' = (M_motor + M_G - J' omega^2 / 2) / J``), a blow each time the crank passes the
     blow angle moving forward (its jump scales with the speed)."""
+    duration = validate.positive("duration", duration, "s")
+    samples = validate.integer("samples", samples, lo=2, hi=validate.MAX_ANGLES)
     motor = motor_for(machine) if motor is None else motor
     model = machine.reduced_model(gear_ratio=motor.gear_ratio) if model is None else model
     phi_b = machine.blow_angle()
@@ -435,8 +476,12 @@ def size_flywheel(machine: ImpactMachine, delta, motor=None, *, n=360, hi=1.0):
     ``brentq`` on the simulated steady state (the flywheel raises the machine's effective mass
     at the blow too, so the blow itself changes). Returns ``(flywheel, SteadyState)``; 0 when
     the machine already meets ``delta``."""
-    if not np.isfinite(delta) or delta <= 0:
-        raise MechanismError(f"delta must be positive, got {delta}")
+    delta = validate.number("delta (coefficient of speed fluctuation)", delta)
+    if not 0.0 < delta < 1.0:
+        raise MechanismError(
+            "delta (coefficient of speed fluctuation, (w_max - w_min) / w_mean) must lie in "
+            f"(0, 1); machines run at 0.01-0.2; got {delta}"
+        )
     motor = motor_for(machine) if motor is None else motor
 
     def run(jf):

@@ -40,6 +40,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ... import validate
 from ...dynamics.inertia import LinkInertia, reduced_inertia
 from ...dynamics.kinetostatics import kinetostatics
 from ...dynamics.loads import PointForce
@@ -63,15 +64,12 @@ class Tool:
     restitution: float = 0.5
 
     def __post_init__(self):
-        e = float(self.restitution)
-        if not math.isfinite(e) or not 0.0 <= e <= 1.0:
+        e = validate.number("restitution e", self.restitution)
+        if not 0.0 <= e <= 1.0:
             raise MechanismError(f"restitution e must lie in [0, 1], got {self.restitution}")
         object.__setattr__(self, "restitution", e)
-        try:
-            m = float(self.mass)
-        except (TypeError, ValueError):
-            m = float("nan")
-        if not math.isfinite(m) or m <= 0.0:
+        m = validate.number("tool mass", self.mass, "kg")
+        if m <= 0.0:
             raise MechanismError(f"tool mass must be a positive finite mass in kg, got {self.mass}")
         object.__setattr__(self, "mass", m)
 
@@ -87,10 +85,9 @@ def newton_impact(m_eff, v, tool: Tool) -> dict:
     """
     if not isinstance(tool, Tool):
         raise MechanismError(f"tool must be a Tool, got {tool!r}")
-    m_eff = np.asarray(m_eff, dtype=float)
-    v = np.asarray(v, dtype=float)
-    if np.any(~np.isfinite(m_eff)) or np.any(m_eff <= 0):
-        raise MechanismError(f"effective mass must be positive and finite, got {m_eff}")
+    m_eff = np.asarray(validate.positive("effective mass m_eff", m_eff, "kg"), dtype=float)
+    v = np.asarray(validate.real("striker speed v", v, "m/s"), dtype=float)
+    validate.broadcast(m_eff=m_eff, v=v)
     e = tool.restitution
     before = 0.5 * m_eff * v * v
     mt = tool.mass

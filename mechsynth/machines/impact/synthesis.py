@@ -173,9 +173,28 @@ def impact_problem(
     solves again with ``== stroke`` if not), and the upper bound is a smooth constraint (one
     row per grid angle) where an equality of the grid's max minus min is not: IPOPT reached
     its iteration limit on two of three starts with it. ``exact_stroke=True``: ``== stroke``."""
+    from ... import validate
+    from ...errors import MechanismError
     from ...synthesis.problem import Problem
-    from .drive import MOTOR_ASSUMPTION
+    from .drive import MOTOR_ASSUMPTION, ImpactMachine
 
+    if not isinstance(machine, ImpactMachine):
+        raise MechanismError(f"machine must be an ImpactMachine, got {machine!r}")
+    stroke = validate.positive("stroke", stroke, "m")
+    max_joint_force = validate.positive("max_joint_force", max_joint_force, "N")
+    mu = validate.number("min_transmission_deg", min_transmission_deg, "deg")
+    if not 0.0 <= mu < 90.0:  # a transmission angle is folded into [0, 90] deg
+        raise MechanismError(
+            "min_transmission_deg must lie in [0, 90) deg (a transmission angle is at most "
+            f"90 deg), got {min_transmission_deg}"
+        )
+    if motor_power is not None:
+        motor_power = validate.positive("motor_power", motor_power, "W")
+    if "N" not in machine.inertias:
+        raise MechanismError(
+            "the machine's inertias give no striker N (its mass enters the blow): e.g. "
+            "machines.impact.design.representative_machine('six')"
+        )
     masses = dict(MASSES)
     masses.update({"striker": float(machine.inertias["N"][0])})
     jd = machine.drive_inertia()
