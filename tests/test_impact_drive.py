@@ -148,3 +148,11 @@ def test_bad_input_is_refused_at_the_door(machine):
     ]:
         with pytest.raises(ms.MechanismError, match=match):
             impact_problem(m, **kw)
+
+
+def test_time_to_a_speed_not_reached_is_none_not_nan():
+    from mechsynth.machines.impact.drive import StartUp
+
+    su = StartUp(np.linspace(0, 0.1, 11), np.zeros(11), np.linspace(0, 50, 11), np.zeros((0, 4)))
+    assert su.time_to(0.5, 100.0) == pytest.approx(0.1)
+    assert su.time_to(0.95, 100.0) is None  # was NaN, printed as "after nan s"

@@ -410,9 +410,13 @@ def _summary(o, six, findings, formulas, five, five_formulas, forces, blows, dyn
         f"{d['quartic_positive_roots']}"
     )
     su = d["start_up"]
+    reached = (
+        f"95 % of the steady speed after {su['time_to_95pct_s']:.3f} s"
+        if su["time_to_95pct_s"] is not None
+        else f"95 % of the steady speed not reached within {su['duration_s']:g} s"
+    )
     L.append(
-        f"   start-up from rest: 95 % of the steady speed after {su['time_to_95pct_s']:.3f} s, "
-        f"{su['blows']} blows in {su['duration_s']:g} s"
+        f"   start-up from rest: {reached}, {su['blows']} blows in {su['duration_s']:g} s"
     )
     fw = d["flywheel"]
     L.append(

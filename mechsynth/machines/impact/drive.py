@@ -413,9 +413,10 @@ class StartUp:
     blows: np.ndarray
 
     def time_to(self, fraction, omega_ref):
-        """First time (s) the speed reaches ``fraction * omega_ref``; NaN if never."""
+        """First time (s) the speed reaches ``fraction * omega_ref``; None if it does not within
+        the integrated time."""
         i = np.flatnonzero(self.omega >= fraction * omega_ref)
-        return float(self.t[i[0]]) if i.size else float("nan")
+        return float(self.t[i[0]]) if i.size else None
 
 
 def start_up(machine: ImpactMachine, motor=None, *, duration=0.6, samples=3000, model=None):
