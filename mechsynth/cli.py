@@ -279,7 +279,7 @@ def _chart_run(args) -> int:
         return 0
     from .synthesis.charts import sweep_executor
 
-    if not getattr(args, "dask", None):
+    if getattr(args, "dask", None) is None:
         with sweep_executor("auto"):  # big sweeps on the numpy model: one process per core
             return _print_result(chart(args.out, options), args)
 
@@ -291,6 +291,15 @@ def _chart_run(args) -> int:
 def _dask_client(address: str):
     """A ``dask.distributed.Client`` of the scheduler at ``address``, or of a new
     ``LocalCluster`` for ``"local"`` (closed with the client)."""
+    import re
+
+    if address != "local" and not re.fullmatch(
+        r"(tcp|tls|inproc|ucx|ws|wss)://[^\s/:]+(:\d{1,5})?/?|[A-Za-z0-9.\-]+:\d{1,5}", address
+    ):
+        raise MechanismError(
+            f"--dask {address!r}: not a Dask scheduler address; give one such as "
+            "tcp://host:8786 (or host:8786), or 'local' for a cluster on this machine"
+        )
     try:
         from dask.distributed import Client, LocalCluster
     except ImportError as exc:

@@ -193,6 +193,9 @@ def test_usage_errors_are_one_line_with_the_nearest_name(capsys, argv, hint):
         (["pump", "analyze", str(UNIT), "--card", "{tmp}"], "is a directory"),
         # an output folder that cannot be made says which and why (it said only "No such file")
         (["study", "run", "extreme-velocity", "--out", "/proc/nope"], "cannot be created"),
+        # --dask '' ran locally without a word; garbage waited 20 s for a traceback
+        (["chart", "slider-crank", "--set", "n=5", "--dask", ""], "not a Dask scheduler"),
+        (["chart", "slider-crank", "--set", "n=5", "--dask", "garbage"], "not a Dask scheduler"),
         # the explorer names its file's fault (it said "cannot serve on 127.0.0.1:0")
         (["explore", "{tmp}/nosuch.toml", "--no-browser"], "explore file"),
         (["explore", "{tmp}", "--no-browser"], "is a directory"),
