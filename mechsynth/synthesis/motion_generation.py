@@ -120,6 +120,28 @@ class Candidate:
              s * p[..., 0] + c * p[..., 1] + self.origin[1]], -1
         )  # fmt: skip
 
+    def linkage_data(self) -> dict:
+        """The linkage as the tables of a linkage file (``[linkage]``, ``[ground]``,
+        ``[[group]]``; SI numbers), as :func:`~mechsynth.synthesis.load_linkage` reads them."""
+        p = {k: float(v) for k, v in self.linkage.parameters.items()}
+        ground = {"O": [p["O_x"], p["O_y"]]}
+        groups = [{"type": "crank", "point": "A", "about": "O", "length": p["OA"]}]
+        if self.kind == "four-bar":
+            ground["D"] = [p["D_x"], p["D_y"]]
+            groups.append(
+                {"type": "rrr", "point": "B", "first": ["A", p["AB"]], "second": ["D", p["DB"]],
+                 "branch": int(self.branch or 1)}
+            )  # fmt: skip
+        else:
+            guide = {"through": [p["B_guide_x"], p["B_guide_y"]], "angle": p["B_guide_angle"]}
+            groups.append({"type": "rrp", "point": "B", "rod": ["A", p["AB"]], "guide": guide})
+        for q in ("P", "Q"):
+            groups.append(
+                {"type": "attach", "point": q, "on": ["A", "B"], "along": p[f"{q}_along"],
+                 "left": p[f"{q}_left"]}
+            )  # fmt: skip
+        return {"linkage": {"name": self.kind, "output": "P"}, "ground": ground, "group": groups}
+
     def summary(self) -> dict:
         p = self.linkage.parameters
         out = {
