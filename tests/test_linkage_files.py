@@ -104,6 +104,22 @@ def test_every_group_type_and_named_dimensions():
             r"\[\[group\]\] 1 \(crank A\): OA must be positive",
         ),
         ({"linkage": {"nmae": "x"}}, r"\[linkage\]: unknown key\(s\) nmae"),
+        # a quantity's unit is checked against its dimension (was 0.524 m and 0.057 rad)
+        (
+            {"group": [{"type": "crank", "point": "A", "about": "O", "length": "30 deg"}]},
+            r"^f.toml: \[\[group\]\] 1 \(crank A\): length: '30 deg' is an angle, "
+            r"expected a length",
+        ),
+        (
+            {
+                "group": [
+                    {"type": "crank", "point": "A", "about": "O", "length": 0.03,
+                     "phase": "57 mm"}
+                ]
+            },
+            r"phase: '57 mm' is a length, expected an angle",
+        ),
+        ({"ground": {"O": ["1 deg", 0]}}, r"\[ground\] O: '1 deg' is an angle, expected a length"),
         ({"linkage": {"output": "Z"}}, r"\[linkage\] output: output: unknown point 'Z'"),
     ],
 )

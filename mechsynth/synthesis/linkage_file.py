@@ -98,16 +98,18 @@ class LinkageFileError(ValueError):
     """A linkage table that does not follow the format (the message names table and key)."""
 
 
-def _dim(value, where):
-    """A dimension: a number (SI), ``"<number> <unit>"`` or ``{name, value}`` -> float or Param."""
+def _dim(value, where, unit="m"):
+    """A dimension: a number (SI), ``"<number> <unit>"`` or ``{name, value}`` -> float or Param.
+    ``unit`` is the SI unit it must have (``"m"`` for lengths and coordinates, ``"rad"`` for
+    angles): ``length = "30 deg"`` is refused, not read as 0.524 m."""
     if isinstance(value, dict):
         extra = set(value) - {"name", "value"}
         if extra or "name" not in value or "value" not in value:
             raise LinkageFileError(
                 f'{where}: a named dimension is {{name = "...", value = ...}}, got {value!r}'
             )
-        return Param(str(value["name"]), parse_quantity(value["value"], where))
-    return parse_quantity(value, where)
+        return Param(str(value["name"]), parse_quantity(value["value"], where, unit))
+    return parse_quantity(value, where, unit)
 
 
 def _point(value, where) -> str:
@@ -159,7 +161,7 @@ def _guide(value, where):
     elif not isinstance(through, str):
         raise LinkageFileError(f"{where}.through: expected [x, y], a point or a link")
     offset = _dim(value["offset"], f"{where}.offset") if "offset" in value else None
-    return (through, _dim(value["angle"], f"{where}.angle")), offset
+    return (through, _dim(value["angle"], f"{where}.angle", "rad")), offset
 
 
 def _profile(value, where):
@@ -183,9 +185,9 @@ def _profile(value, where):
             r = value[k]
             if not isinstance(r, list) or len(r) != 2:
                 raise LinkageFileError(f"{where}.roll: expected [low, high], got {r!r}")
-            args[k] = tuple(parse_quantity(x, f"{where}.roll") for x in r)
+            args[k] = tuple(parse_quantity(x, f"{where}.roll", "rad") for x in r)
         else:
-            args[k] = _dim(value[k], f"{where}.{k}")
+            args[k] = _dim(value[k], f"{where}.{k}", "rad" if k == "phase" else "m")
     try:
         return Circle(**args) if kind == "circle" else Involute(**args)
     except ValueError as exc:
@@ -227,7 +229,7 @@ def _group(lk: Linkage, g: dict, where: str) -> Linkage:
             _point(g["point"], f"{where}: point"),
             about=_point(g["about"], f"{where}: about"),
             length=_dim(g["length"], f"{where}: length"),
-            **opt("phase", _dim),
+            **opt("phase", lambda v, w: _dim(v, w, "rad")),
             **name("link"),
         )
     if kind == "slider":
@@ -235,7 +237,7 @@ def _group(lk: Linkage, g: dict, where: str) -> Linkage:
         tr = g["travel"]
         if not isinstance(tr, list) or len(tr) != 2:
             raise LinkageFileError(f"{where}: travel: expected [low, high], got {tr!r}")
-        travel = tuple(parse_quantity(t, f"{where}: travel") for t in tr)
+        travel = tuple(parse_quantity(t, f"{where}: travel", "m") for t in tr)
         return lk.slider(
             _point(g["point"], f"{where}: point"),
             guide=guide,
@@ -341,7 +343,10 @@ def linkage_from_data(data: dict, where: str = "") -> Linkage:
             raise
         except (ValueError, TypeError) as exc:
             label = g.get("point", g.get("link", "?"))
-            raise LinkageFileError(f"{w} ({g.get('type')} {label}): {exc}") from None
+            msg = str(exc)  # a quantity's message names its place already
+            raise LinkageFileError(
+                msg if msg.startswith(w) else f"{w} ({g.get('type')} {label}): {msg}"
+            ) from None
     if "output" in meta:
         try:
             lk = lk.with_output(meta["output"])
