@@ -219,6 +219,12 @@ def test_sweep_input_errors():
         )
     with pytest.raises(TypeError, match="Measure"):
         sweep(ms.SliderCrank, {"crank": [0.1]}, {"p": 3.0}, fixed={"rod": 1.0}, progress=False)
+    for key in ("feasible", "design"):  # were "'int' object is not callable" mid-sweep
+        with pytest.raises(ms.MechanismError, match=f"{key} must be a function"):
+            sweep(ms.SliderCrank, {"crank": [0.1]}, {"p": ob.max_pressure_angle()},
+                  fixed={"rod": 1.0}, progress=False, **{key: 3})  # fmt: skip
+    with pytest.raises(ms.MechanismError, match="fixed must be a dict"):
+        sweep(ms.SliderCrank, {"crank": [0.1]}, {"p": ob.max_pressure_angle()}, fixed=[1.0])
 
 
 def test_parallel_chunks_give_the_same_chart():

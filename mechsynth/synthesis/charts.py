@@ -868,6 +868,13 @@ def sweep(
     for name, values in grid.items():
         a = np.ravel(validate.real(f"grid axis {name!r}", values))
         axes[str(name)] = a
+    for what, fn in (("design", design), ("feasible", feasible)):
+        if fn is not None and not callable(fn):
+            raise MechanismError(
+                f"{what} must be a function of the design's values (a dict) or None, got {fn!r}"
+            )
+    if fixed is not None and not isinstance(fixed, Mapping):
+        raise MechanismError(f"fixed must be a dict {{name: value}}, got {fixed!r}")
     fixed = dict(fixed or {})
     if isinstance(angles, (int, float, np.integer, np.floating)):
         phi = input_grid(mechanism, validate.integer("angles", angles, 2, validate.MAX_ANGLES))
