@@ -205,6 +205,8 @@ def test_chart_linkage_cli(tmp_path, capsys):
         (["file={ex}/six_link.toml"], r"missing the \[chart\] table"),
         (["file={ex}/chart_six_link.toml", "x=XY:0:1"], "has no parameter 'XY'"),
         (["file={ex}/chart_six_link.toml", "n=many"], "option n must be an integer, got 'many'"),
+        # both axes on one parameter said "40 x 40 designs" and evaluated 40
+        (["file={ex}/chart_six_link.toml", "x=KN:0.06:0.2", "y=KN:0.06:0.2"], "both 'KN'"),
         (
             ["file={ex}/chart_six_link.toml", "colour=red"],
             "unknown option colour; options: file, n",

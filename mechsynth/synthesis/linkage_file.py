@@ -504,8 +504,14 @@ def chart_linkage(out, options):
                 f"{path}: [chart] {key}: {lk.name} has no parameter {name!r}; parameters: "
                 + ", ".join(lk.parameters)
             )
-    n = int(chart.get("n", 40))
-    angles = int(chart.get("angles", 180))
+    if xn == yn:
+        raise LinkageFileError(
+            f"{path}: [chart]: x and y are both {xn!r}; a chart needs two different parameters"
+        )
+    from .. import validate
+
+    n = validate.integer(f"{path}: [chart] n", chart.get("n", 40))
+    angles = validate.integer(f"{path}: [chart] angles", chart.get("angles", 180))
     if n < 3 or angles < 8:
         raise LinkageFileError(f"{path}: [chart]: need n >= 3 and angles >= 8, got {n}, {angles}")
     speed = chart.get("speed")
