@@ -420,7 +420,7 @@ def _four_bar_candidates(phi, psi, phi_d, psi_d, ground, exact):
         for br in ("open", "crossed"):
             fb = FourBar(a[idx, None], b[idx, None], c[idx, None], ground, br, False)
             e = _wrap(fb.motion(ang[idx]).links["rocker"].angle - target)
-            worst = np.max(np.abs(e), axis=1)
+            worst = np.nanmax(np.abs(e), axis=1)  # NaN: no ideal between pairs
             if exact:  # the precision points themselves decide the branch
                 worst = np.where(np.max(np.abs(e[:, :n]), axis=1) < _POINT_TOL, worst, np.inf)
             better = worst < best
@@ -463,7 +463,7 @@ def _slider_candidates(phi, u, phi_d, u_d, crank, exact):
         ang = np.concatenate([phi, phi_d], axis=1)[idx]
         m = sc.motion(ang)
         d = m.slider.position - s0[idx, None] - np.concatenate([u, u_d], axis=1)[idx]
-        worst = np.max(np.abs(d), axis=1)
+        worst = np.nanmax(np.abs(d), axis=1)  # NaN: no ideal between pairs
         if exact:
             worst = np.where(np.max(np.abs(d[:, :n]), axis=1) < _POINT_TOL * crank, worst, np.inf)
         err[idx] = worst
@@ -751,7 +751,7 @@ def _from_pairs(pairs, four_bar, scale, require_crank, n_eval):
     grid = np.linspace(lo, hi, n_eval)[None, :]
     if four_bar:
         # the range between the pairs is checked for assembly; its ideal is unknown (NaN)
-        cand = _four_bar_candidates(phi[None], out[None], grid, np.zeros_like(grid), scale, exact)
+        cand = _four_bar_candidates(phi[None], out[None], grid, np.nan * grid, scale, exact)
         if not cand["ok"][0]:
             raise MechanismError(f"no valid four-bar through these pairs: {cand['reason'][0]}")
         (a, b, c), (sa, sc) = cand["lengths"], cand["shifts"]
@@ -764,7 +764,7 @@ def _from_pairs(pairs, four_bar, scale, require_crank, n_eval):
         phases = (float(ang[0]), float(target[0]))
     else:
         u = out - out[0]
-        cand = _slider_candidates(phi[None], u[None], grid, np.zeros_like(grid), scale, exact)
+        cand = _slider_candidates(phi[None], u[None], grid, np.nan * grid, scale, exact)
         if not cand["ok"][0]:
             raise MechanismError(f"no valid slider-crank through these pairs: {cand['reason'][0]}")
         L, e, s0 = cand["lengths"]
