@@ -252,3 +252,15 @@ def test_result_reports_solver_iterations():
     assert c.total_iterations == sum(c.iterations) + c.refinement_iterations
     assert c.to_dict()["iterations"] == list(c.iterations)
     assert "solver iterations" in res.report()
+
+
+def test_an_angle_in_degrees_typed_as_radians_is_refused_with_the_reading_meant():
+    """30 (degrees meant) was taken as 30 rad: a pressure-angle limit no design can miss."""
+    prob = ms.Problem(
+        ms.SliderCrank, variables={"crank": (0.01, 0.2), "rod": (0.05, 0.2), "offset": (0, 0.1)}
+    )
+    with pytest.raises(ms.MechanismError, match=r"30 rad is more than a turn .* ms.deg\(30\)"):
+        prob.subject_to(ob.max_pressure_angle() <= 30)
+    prob.subject_to(ob.max_pressure_angle() <= ms.deg(30))  # radians: taken
+    with pytest.raises(ms.MechanismError, match=r"'N_guide_angle': bounds 40 rad .*40 deg"):
+        ms.Problem(ms.six_link(), variables={"N_guide_angle": (40, 70)})

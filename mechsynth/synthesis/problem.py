@@ -124,6 +124,8 @@ class Problem:
                 raise MechanismError(
                     f"variable {name!r} is a length: its lower bound must be positive, got {lo}"
                 )
+            if kinds.get(name) == "angle":
+                _check_radians(f"variable {name!r}: bounds", (lo, hi))
             self.variables[name] = (lo, hi)
         self.fixed = dict(fixed or {})
         for name in self.fixed:
@@ -207,6 +209,8 @@ class Problem:
                     )
                 if not np.isfinite(item.bound):
                     raise MechanismError(f"constraint {item.name}: the bound must be finite")
+                if getattr(item.measure, "unit", "") == "rad":
+                    _check_radians(f"constraint {item.name}: bound", (item.bound,))
                 self._probe(item.measure, f"constraint {item.name}")
                 self.constraints.append(item)
         self._cache.clear()
@@ -390,3 +394,16 @@ class Problem:
         obj = "no objective" if self.objective is None else f"{self.sense} {self.objective.name}"
         cons = ", ".join(c.name for c in self.constraints) or "none"
         return f"Problem({self.mechanism.__name__}, {obj}; subject to: {cons})"
+
+
+def _check_radians(what: str, values) -> None:
+    """Angles are radians: a value beyond one turn is almost surely degrees typed as radians
+    (``30`` for 30 deg); refused with the reading in radians it was probably meant to be."""
+    big = [float(v) for v in values if abs(float(v)) > 2.0 * np.pi + 1e-9]
+    if big:
+        v = big[0]
+        raise MechanismError(
+            f"{what} {v:g} rad is more than a turn ({np.rad2deg(v):.6g} deg): angles are in "
+            f"radians; for {v:g} deg write ms.deg({v:g}) = {np.deg2rad(v):.6g} rad "
+            '(in a file: "' + f'{v:g} deg")'
+        )
