@@ -133,7 +133,7 @@ def run(args) -> int:
     from .cli import EXIT_FAILED, _manifest
     from .errors import MechanismError
     from .jsonutil import dumps
-    from .synthesis.burmester import MAX_POSES, as_poses
+    from .synthesis.burmester import MAX_POSES, as_poses, burmester
     from .synthesis.motion_generation import motion_generation, pose_errors
 
     poses = read_poses(args.poses)
@@ -149,6 +149,20 @@ def run(args) -> int:
         raise MechanismError(f"--tol must be a positive length (m), got {args.tol}")
     exact = poses[:MAX_POSES]
     centres = _centres(args.centres) if args.centres else None
+    if len(exact) == MAX_POSES and centres is None:
+        bm = burmester(exact)
+        if sum(d.kind == "RR" for d in bm.points) < 1 or len(bm.points) < 2:
+            why = (
+                f"{args.poses}: these 5 poses have {len(bm.points)} real Burmester point(s): no "
+                "four-bar or slider-crank takes them exactly (move a pose, or drop one and "
+                "choose pivots on the 4-pose centre-point curve)"
+            )
+            if args.json:
+                print(dumps({"poses": poses.tolist(), "burmester": bm.as_dict(),
+                             "success": False, "message": why}))  # fmt: skip
+            else:
+                print(why)
+            return EXIT_FAILED
     mg = motion_generation(exact, centres=centres, samples=args.samples)
     if not 1 <= args.candidate <= len(mg.candidates):
         raise MechanismError(

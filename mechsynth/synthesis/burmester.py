@@ -563,15 +563,21 @@ def _burmester_points(poses, scale):
     return found
 
 
+def residual_jacobian(q, x):
+    """``E_j(w, u)`` (j = 2..) at ``x = (w, u)`` stacked and their exact Jacobian
+    ``dE/d(w, u)``, ``(k, 4)`` (normalized coordinates)."""
+    wh, uh = np.append(x[:2], 1.0), np.append(x[2:], 1.0)
+    e = np.einsum("i,jik,k->j", wh, q, uh)
+    jw = np.einsum("jik,k->ji", q, uh)[:, :2]
+    ju = np.einsum("i,jik->jk", wh, q)[:, :2]
+    return e, np.concatenate([jw, ju], axis=1)
+
+
 def _newton(q, w, u, iters: int = 30):
     """Newton's method on ``E_j(w, u) = 0`` (j = 2..5); ``(w, u)`` stacked, or None."""
     x = np.concatenate([w, u])
     for _ in range(iters):
-        wh, uh = np.append(x[:2], 1.0), np.append(x[2:], 1.0)
-        e = np.einsum("i,jik,k->j", wh, q, uh)
-        jw = np.einsum("jik,k->ji", q, uh)[:, :2]
-        ju = np.einsum("i,jik->jk", wh, q)[:, :2]
-        jac = np.concatenate([jw, ju], axis=1)
+        e, jac = residual_jacobian(q, x)
         try:
             dx = np.linalg.solve(jac, -e)
         except np.linalg.LinAlgError:
@@ -579,8 +585,7 @@ def _newton(q, w, u, iters: int = 30):
         x = x + dx
         if np.max(np.abs(dx)) <= 1e-15 * (1.0 + np.max(np.abs(x))):
             break
-    wh, uh = np.append(x[:2], 1.0), np.append(x[2:], 1.0)
-    e = np.einsum("i,jik,k->j", wh, q, uh)
+    e, _ = residual_jacobian(q, x)
     if not np.all(np.isfinite(x)) or np.max(np.abs(e)) > 1e-10 * (1.0 + np.max(np.abs(x))) ** 2:
         return None
     return x

@@ -159,6 +159,11 @@ class Candidate:
         return out
 
 
+def _cross(a, b):
+    """z of the cross product of plane vectors (``(..., 2)``)."""
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
 def _linkage(kind, crank: Dyad, driven: Dyad, poses, branch):
     """The Linkage of a pairing, in the poses' frame."""
     from ..kinematics.linkage import Linkage
@@ -204,7 +209,7 @@ def pair(poses, crank: Dyad, driven: Dyad) -> Candidate:
     # the driven dyad's branch at each pose
     if kind == "four-bar":
         d = np.asarray(driven.centre)
-        side = np.cross(d - a_pos, b_pos - a_pos)
+        side = _cross(d - a_pos, b_pos - a_pos)
     else:
         g = np.array([np.cos(driven.guide_angle), np.sin(driven.guide_angle)])
         side = (b_pos - a_pos) @ g
@@ -233,7 +238,7 @@ def pair(poses, crank: Dyad, driven: Dyad) -> Candidate:
         rotates = gclass in ("crank-rocker", "double-crank")
     else:
         g = np.array([np.cos(driven.guide_angle), np.sin(driven.guide_angle)])
-        offset = float(np.cross(g, o - np.asarray(driven.circle)))
+        offset = float(_cross(g, o - np.asarray(driven.circle)))
         lc = float(np.hypot(*(np.asarray(driven.circle) - np.asarray(crank.circle))))
         rotates = lc > la + abs(offset)
         gclass = "full-turn crank" if rotates else "rocking crank"
@@ -285,7 +290,7 @@ def pose_errors(linkage, poses, crank_angles=None) -> tuple[np.ndarray, np.ndarr
         p = np.array([m1.points["P"].x[0], m1.points["P"].y[0]])
         q = np.array([m1.points["Q"].x[0], m1.points["Q"].y[0]])
         f = (q - p) / np.hypot(*(q - p))
-        local = np.array([(a - p) @ f, np.cross(f, a - p)])
+        local = np.array([(a - p) @ f, _cross(f, a - p)])
         c, s = np.cos(poses[:, 2]), np.sin(poses[:, 2])
         ax = poses[:, 0] + c * local[0] - s * local[1]
         ay = poses[:, 1] + s * local[0] + c * local[1]
@@ -612,7 +617,7 @@ def plot_motion(bm: Burmester, candidate: Candidate | None = None, ax=None, titl
     poses = bm.poses
     with style():
         if ax is None:
-            fig, ax = plt.subplots(figsize=(7.0, 6.0))
+            fig, ax = plt.subplots(figsize=(9.0, 6.0))
         else:
             fig = ax.figure
         pts = [poses[:, :2]]
@@ -620,8 +625,8 @@ def plot_motion(bm: Burmester, candidate: Candidate | None = None, ax=None, titl
             sk = candidate.linkage.sketch(candidate.crank_angles)
             for f in range(len(poses)):
                 draw_sketch(sk, f, ax=ax, alpha=0.35 + 0.65 * (f == 0), labels=f == 0, title=False)
-            pts.append(np.array([candidate.crank.centre, candidate.crank.circle,
-                                 candidate.driven.circle]))  # fmt: skip
+            pts += [candidate.crank.positions(poses), candidate.driven.positions(poses),
+                    np.array([candidate.crank.centre])]  # fmt: skip
             if candidate.driven.centre is not None:
                 pts.append(np.array([candidate.driven.centre]))
         span = float(np.max(np.ptp(poses[:, :2], axis=0)))
@@ -654,6 +659,7 @@ def plot_motion(bm: Burmester, candidate: Candidate | None = None, ax=None, titl
             if len(near):
                 ax.plot(near[:, 0] / k, near[:, 1] / k, "x", color=PALETTE[0], ms=5,
                         label="poles")  # fmt: skip
+                pts.append(near)
         if bm.n == 4:
             cc, kc = bm.centre_curve(1441), bm.circle_curve(1441)
             ax.plot(cc[:, 0] / k, cc[:, 1] / k, color=PALETTE[4], lw=1.2,
@@ -688,5 +694,5 @@ def plot_motion(bm: Burmester, candidate: Candidate | None = None, ax=None, titl
                           f"{', '.join(candidate.defects) or 'none'}")  # fmt: skip
         if title:
             ax.set_title(title, fontsize=10)
-        ax.legend(loc="upper left", fontsize=7, framealpha=0.9)
+        ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=7, framealpha=0.9)
     return fig
