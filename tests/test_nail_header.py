@@ -20,10 +20,11 @@ PHI = -cycle(720)  # clockwise from the outer dead centre
 @pytest.mark.parametrize("m3", [15.0, 50.0])
 def test_table_1(m3):
     # Paper 003, Table 1 (columns of the 15 kg row as read in the seeds notes): maxima at phi = 0
+    # to 0.05 % (the claim of the README and docs/forces.md; largest: -0.047 % for R21 at 50 kg)
     res = NailHeader(m3=m3).forces(PHI)
     for joint, published in PUBLISHED[m3].items():
         peak, at = res.peak(joint)
-        assert peak == pytest.approx(published, rel=0.005)
+        assert peak == pytest.approx(published, rel=5e-4)
         assert np.cos(at) == pytest.approx(1.0)  # at the outer dead centre
 
 
@@ -38,6 +39,7 @@ def test_power_balance_nail_header():
     assert np.max(np.abs(lhs - rhs)) <= 1e-9 * np.max(np.abs(rhs))
 
 
+@pytest.mark.slow
 def test_study_json_and_optimum(tmp_path):
     r = run_study("nail-header", out=tmp_path, angles=720, scan_step=1.0)
     data = json.loads(dumps(r.data))
@@ -55,6 +57,27 @@ def test_study_json_and_optimum(tmp_path):
     assert cw["peak"] <= data["optimal_slider_mass_train"]["peak"] * (1 + 1e-6)
     assert cw["peak_recomputed"] == pytest.approx(cw["peak"], rel=1e-4)
     assert all(p.exists() for p in r.files) and len(r.errata) >= 4
+    # the ~15 N residual of Table 1: mostly the ejector's pull on the slider at phi = 0
+    res = data["table_residual"]
+    assert -15.5 < res["min_deviation_N"] <= res["max_deviation_N"] < -14.0
+    assert -13.0 < res["R43_x_at_0"] < -10.0
+    assert -4.0 < res["without_ejector_min_N"] <= res["without_ejector_max_N"] < -2.0
+    assert "ejector's pull" in r.summary
+    # balancing: shaking force checked against the ground reactions, the counterweight SOCP
+    bal = data["balancing"]
+    for check in bal["shaking_vs_ground_reactions_max_difference"].values():
+        assert check["force_N"] < 1e-7 and check["moment_Nm"] < 1e-8
+    sp = bal["shaking_force_peak_N"]
+    assert sp["15 kg"] < sp["50 kg"] < sp["R32-optimal"]
+    cw = bal["counterweight"]
+    assert cw["status"] == "optimal" and cw["shaking_peak_N"] < 0.5 * sp["15 kg"]
+    assert cw["reactions_after_N"]["R10"] > cw["reactions_before_N"]["R10"]
+    front = bal["front_slider_and_counterweight"]
+    assert all(f["status"] == "optimal" for f in front)
+    nails = bal["nail_sizes"]
+    assert nails["robust"]["status"] == "optimal"
+    assert nails["cases"][0]["own_mass"] < nails["compromise"]["mass"] < nails["robust"]["mass"]
+    assert (tmp_path / "nail_header_balance.png").stat().st_size > 10_000
     # speed fluctuation at 600 rpm of the same NailHeader with the assumed motor
     sf = data["speed_fluctuation"]
     assert "no motor" in sf["motor"]["note"] and sf["motor"]["rated_power_W"] == 4000.0

@@ -229,7 +229,12 @@ class NailHeader(Mechanism):
         """Bodies, joints and loads (gravity, upsetting force, ejector spring)."""
         m_cw = self.counterweight / self.cw_radius
         m_crank = self.m1 + m_cw
-        u1 = -(self.m1 * self.l_os1 + self.counterweight) / m_crank
+        moment = self.m1 * self.l_os1 + self.counterweight
+        if ops.is_symbolic(m_crank) or np.all(np.asarray(m_crank) > 0):
+            u1 = -moment / m_crank
+        else:  # a massless crank: its centre of mass is irrelevant, put it at O
+            positive = np.asarray(m_crank) > 0
+            u1 = np.where(positive, -moment / np.where(positive, m_crank, 1.0), 0.0)
         # centroidal inertia of crank + counterweight (point mass at cw_radius opposite A)
         j1 = self.j_s1 + self.m1 * (self.l_os1 + u1) ** 2 + m_cw * (self.cw_radius + u1) ** 2
         bodies = {
