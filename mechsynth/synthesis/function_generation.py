@@ -80,7 +80,8 @@ class FunctionGeneration:
         angle counted as its supplement).
     domain, y_range : ``(x0, x1)`` and ``(f(x0), f(x1))`` (None for pairs).
     function : the function's text (or a callable's name).
-    start_max_error : for ``"min-max"``, ``max_error`` of the least-squares or exact start.
+    start_max_error, start_error : for ``"min-max"``, ``max_error`` and ``error`` of the
+        least-squares or exact start.
     solve : the certified :class:`~mechsynth.synthesis.Result` of the min-max stage.
     """
 
@@ -101,6 +102,7 @@ class FunctionGeneration:
     y_range: tuple[float, float] | None = None
     function: str | None = None
     start_max_error: float | None = None
+    start_error: np.ndarray | None = field(default=None, repr=False)
     solve: Any = field(default=None, repr=False)
 
     # ------------------------------------------------------------------ views
@@ -216,11 +218,19 @@ class FunctionGeneration:
             xlabel = "x" if self.precision_x is not None else display.label("crank angle", "rad")
             xs = self.x if self.precision_x is not None else display.convert(self.x, "rad")[0]
             marker = "-" if self.precision_x is not None else "o-"
-            ax.plot(xs, err, marker, color=PALETTE[4], label="structural error")
+            start = None
+            first = "exact" if len(self.precision_points) == 3 else "least squares"
+            if self.start_error is not None:
+                start, _ = display.convert(np.asarray(self.start_error), unit)
+                ax.plot(xs, start, "--", color=PALETTE[0], lw=1.0, label=f"start ({first})")
+            ax.plot(xs, err, marker, color=PALETTE[4], label=f"structural error ({self.method})")
             ax.axhline(0.0, color=PALETTE[0], lw=0.8)
             if self.precision_x is not None:
+                what = "precision points" + ("" if first == "exact" else " (fitted)")
                 ax.plot(self.precision_x, np.zeros(len(self.precision_x)), "o", ms=6,
-                        color=PALETTE[5], label="precision points", zorder=3)  # fmt: skip
+                        color=PALETTE[5], zorder=3, label=what)  # fmt: skip
+            if start is not None:
+                err = np.concatenate([err, start])
             ax.set_xlabel(xlabel)
             ax.set_ylabel(f"output error, {shown}")
             lo, hi = float(np.min(err)), float(np.max(err))
@@ -851,5 +861,6 @@ def _replace(res, sol, design, phases, err, mu):
         max_error=float(np.max(np.abs(err))),
         min_transmission_angle=mu,
         start_max_error=res.max_error,
+        start_error=res.error,
         solve=sol,
     )
