@@ -203,7 +203,7 @@ def run(args) -> int:
 
             prob = motion_problem(chosen, poses, objective="error")
         res = prob.solve(starts=args.starts, progress=False)
-        data["optimize"] = {"objective": objective, **res.to_dict()}
+        data["optimize"] = {**res.to_dict(), "mode": objective}
         lines.append(f"optimize ({objective}): {res.status}, value {res.value:.6g}")
         ok = bool(res.success)
         if res.design is not None:
