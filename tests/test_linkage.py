@@ -388,3 +388,14 @@ def test_measures_bound_to_a_linkage():
         ob.assembly_margin("Q").evaluate(lk, phi)
     with pytest.raises(ValueError, match="reports no assembly margins"):
         ob.assembly_margin("B").evaluate(fb, phi)
+
+
+def test_a_motion_too_big_for_memory_is_refused_before_any_work():
+    lk = ms.six_link()
+    with pytest.raises(MechanismError, match=r"10000000 angles would need about .* GiB"):
+        lk.motion(np.linspace(0.0, 6.0, 10**7))  # numpy's MemoryError after a long wait
+    batch = lk(DB=np.linspace(0.07, 0.09, 10**6)[:, None])
+    with pytest.raises(MechanismError, match=r"360000000 designs x angles would need"):
+        batch.motion(ms.cycle(360))
+    with pytest.raises(MechanismError, match="do not broadcast: .*DB \\(3, 1\\)"):
+        lk(DB=np.full((3, 1), 0.08)).motion(np.zeros((2, 4)))

@@ -65,7 +65,7 @@ from .linkage_groups import (
     SliderDriverGroup,
     _State,
 )
-from .mechanism import Drawable, check_finite, check_length, speed_pair
+from .mechanism import Drawable, check_finite, check_length, guard_motion, speed_pair
 from .tracks import LinkTrack, Motion, PointJet, PointTrack, SliderTrack
 
 __all__ = ["Linkage", "Param", "Topology", "GuideLine", "Profile"]
@@ -1086,6 +1086,14 @@ class Linkage(Drawable):
                 raise MechanismError(f"phi must be {self._input_words()}, got {phi!r}") from None
             if not np.all(np.isfinite(phi)):
                 raise MechanismError(f"phi must be finite {self._input_words()}")
+            if not self.is_symbolic:  # refuse up front what would not fit in memory
+                guard_motion(
+                    self._values,
+                    phi if isinstance(phi, np.ndarray) else np.asarray(phi),
+                    omega,
+                    eps,
+                    arrays=12 * (len(self.points) + len(self._bodies)) + 8,
+                )
         return self._motion(self._solve(phi), phi, omega, eps)
 
     def _motion(self, st: _State, phi, omega, eps, scaled=False) -> Motion:

@@ -102,6 +102,8 @@ def guard_motion(params: dict, phi, *rates, arrays: int = MOTION_ARRAYS):
             n *= v.size
             batch = True
     if not batch:
+        if n * arrays * 8 > validate.MAX_BYTES:  # one design over a huge grid
+            validate.check_size(f"a motion over {n} angles", arrays * float(n))
         return
     named = {**params, "crank angles": phi}
     named.update({k: v for k, v in zip(("speed", "epsilon"), rates)})
