@@ -211,6 +211,14 @@ def test_min_max_lowers_the_certified_worst_error_and_equioscillates():
                      min_transmission=None, n_eval=2001)  # fmt: skip
     assert fo.method == "min-max" and fo.solve.success and fo.solve.certification.certified
     assert fo.max_error < 0.2 * fo.start_max_error
+    # the certifier searched the input range only (the triple rocker cannot even be assembled
+    # over a whole turn): every angle it added, and the worst one, lie in [0, input range]
+    cert = fo.solve.certification
+    span = ms.deg(60)
+    assert all(0.0 <= a <= span for a in cert.refined_angles)
+    assert all(0.0 <= p.angle <= span for p in cert.peaks)
+    with pytest.raises(ms.MechanismError):
+        fo.design.motion(ms.cycle(360))
     # the certified peak is the error curve's maximum (the dense curve is evaluated apart)
     assert abs(fo.solve.value - fo.max_error) < 1e-6 * fo.max_error
     # alternating extrema of one magnitude (to 0.1 % on the 2001-point grid): five, ends included
@@ -316,3 +324,12 @@ def test_expressions_are_read_safely():
     ]:
         with pytest.raises(ms.MechanismError, match=why):
             parse_function(bad)
+
+
+def test_a_callable_function_works_as_its_expression():
+    a = _log_design(phases=(ms.deg(120), ms.deg(20)))
+    phases = (ms.deg(120), ms.deg(20))
+    b = ms.function_generation(
+        np.log10, x=(1.0, 10.0), input_range=ms.deg(60), output_range=ms.deg(90), phases=phases
+    )
+    assert b.function == "log10" and np.array_equal(a.error, b.error)
