@@ -10,7 +10,7 @@ __all__ = ["path_figure", "pareto_figure"]
 def path_figure(result, n: int = 360, show: int | None = None):
     """The best design of a :class:`~mechsynth.synthesis.path_generation.PathResult`: the
     targets (numbered), the coupler curve over a turn, the linkage drawn at the targets (at
-    most ``show`` of them, default up to 8, spread over the targets) and the ground pivots."""
+    most ``show`` of them, default up to 4, spread over the targets) and the ground pivots."""
     import matplotlib.pyplot as plt
 
     from .. import display
@@ -25,7 +25,7 @@ def path_figure(result, n: int = 360, show: int | None = None):
     curve = best.trace(phi) / f
     pos = {k: v / f for k, v in best.positions().items()}
     m = len(t)
-    show = min(m, 8) if show is None else max(0, min(int(show), m))
+    show = min(m, 4) if show is None else max(0, min(int(show), m))
     pick = np.unique(np.round(np.linspace(0, m - 1, show)).astype(int)) if show else []
     with style():
         fig, ax = plt.subplots(figsize=(8.0, 5.2))
@@ -33,11 +33,11 @@ def path_figure(result, n: int = 360, show: int | None = None):
             xs = [pos[k][i, 0] for k in ("O1", "A", "B", "O2")]
             ys = [pos[k][i, 1] for k in ("O1", "A", "B", "O2")]
             alpha = 1.0 if j == 0 else 0.35
-            ax.plot(xs, ys, "-", color=PALETTE[5], lw=1.2, alpha=alpha,
+            ax.plot(xs, ys, "-", color=PALETTE[4], lw=1.2, alpha=alpha,
                     label="linkage at the targets" if j == 0 else None)  # fmt: skip
             tri = np.array([pos["A"][i], pos["B"][i], pos["P"][i], pos["A"][i]])
-            ax.fill(tri[:, 0], tri[:, 1], color=PALETTE[5], alpha=0.12 * alpha)
-            ax.plot(tri[:, 0], tri[:, 1], "-", color=PALETTE[5], lw=0.8, alpha=alpha)
+            ax.fill(tri[:, 0], tri[:, 1], color=PALETTE[4], alpha=0.12 * alpha)
+            ax.plot(tri[:, 0], tri[:, 1], "-", color=PALETTE[4], lw=0.8, alpha=alpha)
         ax.plot(curve[:, 0], curve[:, 1], "-", color=PALETTE[1], label="coupler curve")
         ax.plot(pos["P"][:, 0], pos["P"][:, 1], "o", ms=3.5, color=PALETTE[1],
                 label="coupler point at the targets")  # fmt: skip
@@ -73,12 +73,15 @@ def pareto_figure(front, published=None, title="error versus smallest transmissi
     err = np.array([p[1] for p in front])
     with style():
         fig, ax = plt.subplots(figsize=(6.0, 4.0))
-        ax.semilogy(mu, err, "o-", color=PALETTE[1], ms=4, label="this library (front)")
+        allerr = err if published is None else np.append(err, published[1])
+        if np.nanmax(allerr) > 5 * np.nanmin(allerr):
+            ax.set_yscale("log")
+        ax.plot(mu, err, "o-", color=PALETTE[1], ms=4, label="this library (front)")
         if published is not None:
-            ax.semilogy([np.rad2deg(published[0])], [published[1]], "s", color=PALETTE[6],
+            ax.plot([np.rad2deg(published[0])], [published[1]], "s", color=PALETTE[6],
                         ms=7, label=published[2])  # fmt: skip
         ax.set_xlabel("smallest transmission angle over the turn, deg")
         ax.set_ylabel("error (sum of squared distances)")
         ax.set_title(title)
-        ax.legend(loc="best")
+        ax.legend(loc="center right")
     return fig

@@ -219,6 +219,7 @@ class PathSolution:
         return out
 
     def as_dict(self) -> dict:
+        """JSON-ready values (SI: m, m^2, rad)."""
         d = {k: getattr(self, k) for k in (*NAMES, "branch", "error", "sum_squares")}
         d.update(
             max_distance=self.max_distance,
@@ -336,7 +337,7 @@ class PathResult:
             "objective": self.objective,
             "closed": self.closed,
             "error_definition": self.error_definition,
-            "min_transmission_deg": float(np.rad2deg(self.min_transmission)),
+            "min_transmission": float(self.min_transmission),
             "starts": self.starts,
             "distinct": self.distinct,
             "status": self.status,
@@ -349,7 +350,7 @@ class PathResult:
 
     def figure(self, n: int = 360, show: int | None = None):
         """Targets, the traced curve and the linkage drawn at the targets (at most ``show`` of
-        them, default all up to 8). Returns the matplotlib figure."""
+        them, default up to 4). Returns the matplotlib figure."""
         from .path_figures import path_figure
 
         return path_figure(self, n=n, show=show)
