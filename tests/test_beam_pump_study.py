@@ -27,6 +27,7 @@ def test_printed_variants_reproduced_by_eqs_2_3():
         assert fit["fitted"][name]["l"] == pytest.approx(v["l"], rel=6e-4)
 
 
+@pytest.mark.slow
 def test_findings(result):
     res, _ = result
     f = res.data["findings"]
@@ -39,6 +40,7 @@ def test_findings(result):
         "upstroke_peak_acceleration_drops",
         "pressure_angle_grows_axial_2a_2b",
         "peak_net_torque_drops_axial_2a_2b",
+        "pitman_force_grows_axial_2a_2b",
     ):
         assert f[key], key
     # do not hold over the whole cycle: reported as errata
@@ -56,6 +58,7 @@ def test_findings(result):
         assert t["mills_peak_acceleration_approximation"] < 0.95 * t["peak_acceleration"]
 
 
+@pytest.mark.slow
 def test_synthesis_beats_every_feasible_variant(result):
     res, _ = result
     syn = res.data["synthesis"]
@@ -69,6 +72,7 @@ def test_synthesis_beats_every_feasible_variant(result):
             assert syn["value"] <= t["peak_acceleration"] * (1 + 1e-9)
 
 
+@pytest.mark.slow
 def test_pareto_front(result):
     res, _ = result
     pts = res.data["pareto"]["points"]
@@ -87,12 +91,52 @@ def test_pareto_front(result):
     assert min(hi) * (1 - 1e-7) <= val <= min(lo) * (1 + 1e-7)
 
 
+@pytest.mark.slow
 def test_files(result):
     res, out = result
     names = {p.name for p in res.files}
     for n in ("beam_pump_kinematics.png", "beam_pump_torque.png", "beam_pump_pressure_angle.png",
-              "beam_pump_pareto.png", "beam_pump_extremes.csv", "beam_pump.json"):  # fmt: skip
+              "beam_pump_pareto.png", "beam_pump_extremes.csv", "beam_pump.json",
+              "beam_pump_pitman_force.png", "beam_pump_pareto_velocity.png",
+              "beam_pump_pareto_velocity.csv"):  # fmt: skip
         assert n in names and (out / n).stat().st_size > 0
     data = json.loads((out / "beam_pump.json").read_text())
     assert set(data["variants"]) == {"axial", "2a", "2b"}
     assert len(data["tf_table_2b"]) == 24
+
+
+@pytest.mark.slow
+def test_recommendation_1_both_objectives(result):
+    # Paper 000, recommendation 1: the scheme with the smallest maximum speed AND acceleration of
+    # the polished rod. Among the paper's variants no one is best in both; the two syntheses
+    # (same stroke, beam and limits) give two different designs: the objectives conflict.
+    res, _ = result
+    rec = res.data["recommendation_1"]
+    assert rec["smallest_peak_velocity"] == "axial"
+    assert rec["smallest_peak_acceleration"] == "2b"
+    assert not rec["one_scheme_for_both"]
+    syn = rec["synthesis"]
+    a, v = syn["acceleration_optimal"], syn["velocity_optimal"]
+    assert a["success"] and v["success"]
+    # each optimum's certified value is its own measure (dense check to 1e-6)
+    assert a["peak_acceleration"] == pytest.approx(a["value"], rel=1e-6)
+    assert v["peak_velocity"] == pytest.approx(v["value"], rel=1e-6)
+    # each is best in its own measure and worse in the other's
+    assert v["peak_velocity"] < a["peak_velocity"]
+    assert a["peak_acceleration"] < v["peak_acceleration"]
+    assert not syn["one_design_for_both"]
+    assert "recommendation 1" in res.summary
+
+
+@pytest.mark.slow
+def test_velocity_pressure_front(result):
+    # Recommendation 2 for the speed: a smaller pressure angle costs peak speed.
+    res, _ = result
+    pts = [p for p in res.data["pareto_velocity"]["points"] if p["success"]]
+    assert len(pts) >= 5
+    for p in pts:
+        assert p["second"] <= p["eps"] + 1e-6
+    front = sorted((p for p in pts if p["nondominated"]), key=lambda p: p["second"])
+    assert np.all(np.diff([p["first"] for p in front]) <= 0)
+    v_opt = res.data["recommendation_1"]["synthesis"]["velocity_optimal"]["value"]
+    assert min(p["first"] for p in front) == pytest.approx(v_opt, rel=1e-5)

@@ -37,7 +37,7 @@ from ..machines.pumping_unit import (
     torque_curve,
     torque_factor_table,
 )
-from ..objectives import max_pressure_angle, peak_acceleration, stroke
+from ..objectives import max_pressure_angle, peak_acceleration, peak_velocity, stroke
 from ..options import Option, takes_options
 from ..progress import Stages
 from ..units import cycle, deg, spm
@@ -159,6 +159,77 @@ def extremes(unit: BeamPumpingUnit, theta, speed, card):
     }
 
 
+# ------------------------------------------------------------------------------ pitman force
+def pitman_force_model(unit: BeamPumpingUnit, card: DynamometerCard):
+    """Kinetostatic model of ``unit`` with massless links carrying the polished-rod load of
+    ``card`` (N, down at the horsehead, moment arm ``front_arm`` about the centre bearing):
+    bodies crank, pitman, beam; joints R10 (frame on crank at O1), R21 (crank on pitman at A),
+    R32 (pitman on beam at B), R30 (frame on beam at O2)."""
+    from ..dynamics.inertia import LinkInertia
+    from ..dynamics.kinetostatics import FRAME, ForceModel, Revolute
+    from ..dynamics.loads import PointForce
+
+    def load(m):
+        w = card.load_on(m, unit.stroke)
+        return (0.0 * w, -w)
+
+    bodies = {
+        "crank": LinkInertia("crank", "O1", 0.0),
+        "pitman": LinkInertia("pitman", "A", 0.0),
+        "beam": LinkInertia("rear_arm", "O2", 0.0),
+    }
+    joints = (
+        Revolute("R10", "crank", FRAME, "O1"),
+        Revolute("R21", "pitman", "crank", "A"),
+        Revolute("R32", "beam", "pitman", "B"),
+        Revolute("R30", "beam", FRAME, "O2"),
+    )
+    return ForceModel(bodies, joints, (PointForce("beam", "PR", load, "well load"),), "crank")
+
+
+def pitman_force(unit: BeamPumpingUnit, theta, speed, card: DynamometerCard):
+    """The pitman force over the crank angles ``theta`` under the card's load (massless links).
+
+    Returns a dict of arrays: ``force`` (N, |R21| from the kinetostatics), ``closed_form``
+    (``W k1 / (k cos(pressure angle))`` from the beam's moment balance), ``load`` (N) and
+    ``pressure_angle`` (rad), and the kinetostatic result as ``result``."""
+    from ..dynamics.kinetostatics import kinetostatics
+
+    m = unit.motion(theta, speed=speed)
+    model = pitman_force_model(unit, card)
+    res = kinetostatics(model, m)
+    w = card.load_on(m, unit.stroke)
+    pa = np.asarray(m.pressure_angle)
+    return {
+        "force": np.asarray(res.magnitude("R21")),
+        "closed_form": w * unit.front_arm / (unit.rear_arm * np.cos(pa)),
+        "load": w,
+        "pressure_angle": pa,
+        "result": res,
+        "motion": m,
+        "model": model,
+    }
+
+
+def pitman_table(units, theta, speed, card):
+    """Peak pitman force of every variant under the same card, and where it occurs."""
+    out = {}
+    for name, u in units.items():
+        pf = pitman_force(u, theta, speed, card)
+        k = int(np.argmax(pf["force"]))
+        up = np.asarray(pf["motion"].torque_factor) > 0
+        out[name] = {
+            "peak_pitman_force": float(pf["force"][k]),
+            "at_theta_deg": float(np.rad2deg(theta[k])),
+            "pressure_angle_there_deg": float(np.rad2deg(pf["pressure_angle"][k])),
+            "load_there": float(pf["load"][k]),
+            "upstroke_max_pressure_angle_deg": float(np.rad2deg(pf["pressure_angle"][up].max())),
+            "mean_pitman_force": float(np.mean(pf["force"])),
+            "closed_form_deviation": float(np.max(np.abs(pf["force"] - pf["closed_form"]))),
+        }
+    return out
+
+
 # ------------------------------------------------------------------------------ synthesis
 def _base_problem(base):
     """Crank, pitman and pivot position of a Mark II-type unit on the base beam, at 6 SPM."""
@@ -178,16 +249,20 @@ def _base_problem(base):
     return prob
 
 
-def synthesis_problem(base, pressure_limit=None, tf_limit=TF_LIMIT):
+OBJECTIVES = {"acceleration": peak_acceleration, "velocity": peak_velocity}
+
+
+def synthesis_problem(base, pressure_limit=None, tf_limit=TF_LIMIT, objective="acceleration"):
     """Choose crank, pitman and the pivot position for the base beam and stroke: minimize the
-    peak polished-rod acceleration at 6 SPM subject to the stroke, a pressure-angle limit and a
-    torque-factor limit (Grashof full turn is added by the mechanism's feasibility hook).
-    ``pressure_limit`` in rad (default 30 deg), ``tf_limit`` in m/rad."""
+    peak polished-rod acceleration (or, ``objective="velocity"``, speed) at 6 SPM subject to the
+    stroke, a pressure-angle limit and a torque-factor limit (Grashof full turn is added by the
+    mechanism's feasibility hook). ``pressure_limit`` in rad (default 30 deg), ``tf_limit`` in
+    m/rad. Paper 000's recommendation 1 asks for both objectives."""
     if pressure_limit is None:
         pressure_limit = deg(PRESSURE_LIMIT_DEG)
 
     prob = _base_problem(base)
-    prob.minimize(peak_acceleration("slider"))
+    prob.minimize(OBJECTIVES[objective]("slider"))
     prob.subject_to(
         stroke("slider") == base["H"],
         max_pressure_angle() <= pressure_limit,
@@ -196,8 +271,9 @@ def synthesis_problem(base, pressure_limit=None, tf_limit=TF_LIMIT):
     return prob
 
 
-def pareto(base, n=7, starts=3, anchor_starts=4):
-    """Peak acceleration against maximum pressure angle (paper 000's recommendation 2) by
+def pareto(base, n=7, starts=3, anchor_starts=4, objective="acceleration"):
+    """Peak acceleration (or speed, ``objective="velocity"``) against maximum pressure angle
+    (paper 000's recommendation 2) by
     :func:`~mechsynth.synthesis.pareto.pareto_front` (epsilon-constraint on the pressure angle,
     anchors included), for the base beam and stroke with the torque-factor limit."""
     from ..synthesis.pareto import pareto_front
@@ -206,7 +282,7 @@ def pareto(base, n=7, starts=3, anchor_starts=4):
     prob.subject_to(stroke("slider") == base["H"], peak_torque_factor() <= TF_LIMIT)
     return pareto_front(
         prob,
-        peak_acceleration("slider"),
+        OBJECTIVES[objective]("slider"),
         max_pressure_angle(),
         n=n,
         starts=starts,
@@ -219,7 +295,7 @@ def pareto(base, n=7, starts=3, anchor_starts=4):
 STAGES = (
     "variants and the paper's findings",
     "synthesis (IPOPT and differential evolution)",
-    "Pareto front",
+    "Pareto fronts",
     "figures, tables, animation",
 )
 
@@ -251,6 +327,14 @@ def _run(out, n_angles, pareto_points, starts, stages):
     )
     table = {name: extremes(u, theta, w, card) for name, u in units.items()}
     printed_table = {name: extremes(u, theta, w, card) for name, u in printed.items()}
+    pitman = pitman_table(units, theta, w, card)
+    rec1 = {
+        "smallest_peak_velocity": min(table, key=lambda k: table[k]["peak_velocity"]),
+        "smallest_peak_acceleration": min(table, key=lambda k: table[k]["peak_acceleration"]),
+    }
+    rec1["one_scheme_for_both"] = (
+        rec1["smallest_peak_velocity"] == rec1["smallest_peak_acceleration"]
+    )
 
     # the paper's findings, checked
     ax, a2, b2 = table["axial"], table["2a"], table["2b"]
@@ -279,6 +363,11 @@ def _run(out, n_angles, pareto_points, starts, stages):
             ax["max_pressure_angle_deg"]
             < a2["max_pressure_angle_deg"]
             < b2["max_pressure_angle_deg"]
+        ),
+        "pitman_force_grows_axial_2a_2b": bool(
+            pitman["axial"]["peak_pitman_force"]
+            < pitman["2a"]["peak_pitman_force"]
+            < pitman["2b"]["peak_pitman_force"]
         ),
         "peak_net_torque_drops_axial_2a_2b": bool(
             ax["peak_net_torque_optimal_cb"]
@@ -325,6 +414,8 @@ def _run(out, n_angles, pareto_points, starts, stages):
     best = synthesis_problem(base).solve(starts=starts, progress=False)
     # global cross-check: differential evolution over the same box, polished and certified
     de = synthesis_problem(base).solve(method="de", seed=1, progress=False)
+    best_v = synthesis_problem(base, objective="velocity").solve(starts=starts, progress=False)
+    rec1["synthesis"] = _both_objectives(best, best_v, w)
     best_design = None
     if best.design is not None:
         d = best.design
@@ -333,6 +424,7 @@ def _run(out, n_angles, pareto_points, starts, stages):
         best_design = both[rot]
     stages.next(STAGES[2])
     front = pareto(base, n=pareto_points, starts=starts)
+    front_v = pareto(base, n=pareto_points, starts=starts, objective="velocity")
 
     data = {
         "success": bool(best.success),
@@ -362,6 +454,16 @@ def _run(out, n_angles, pareto_points, starts, stages):
             "method": "epsilon-constraint (synthesis.pareto.pareto_front)",
             **front.to_dict(),
         },
+        "pareto_velocity": {
+            "method": "epsilon-constraint (synthesis.pareto.pareto_front)",
+            **front_v.to_dict(),
+        },
+        "pitman_force": {
+            "card": f"idealized rectangular card {CARD_UP:g} N up, {CARD_DOWN:g} N down",
+            "links": "massless (the load's path through the linkage only)",
+            "variants": pitman,
+        },
+        "recommendation_1": rec1,
         "tf_table_2b": torque_factor_table(units["2b"], 15.0),
     }
 
@@ -369,7 +471,9 @@ def _run(out, n_angles, pareto_points, starts, stages):
     if out is not None:
         stages.next(STAGES[3])
         files = _write(Path(out), theta, w, units, card, table, front, data, best_design)
+        files += _write_recommendations(Path(out), theta, w, units, card, table, front_v)
     summary = _summary(base, fit, table, printed_table, findings, best, best_design, front)
+    summary += "\n" + "\n".join(_recommendation_lines(pitman, rec1, front_v, table))
     syn = data["synthesis"]
     summary += (
         f"\nsynthesis: variables on a bound of the box: {', '.join(syn['active_bounds']) or 'none'}"
@@ -377,6 +481,155 @@ def _run(out, n_angles, pareto_points, starts, stages):
         f"{de.value:.6f} m/s^2 (IPOPT {best.value:.6f})"
     )
     return StudyResult("beam-pump", summary, data, files, errata)
+
+
+def _both_objectives(best_a, best_v, speed, n=3601):
+    """Recommendation 1's two objectives: each optimum's peak speed and acceleration (dense)."""
+    out = {}
+    theta = cycle(n - 1)
+    for key, res in (("acceleration_optimal", best_a), ("velocity_optimal", best_v)):
+        row = {"status": res.status, "success": bool(res.success), "value": res.value}
+        if res.design is not None:
+            m = res.design.motion(theta, speed=speed)
+            row.update(
+                crank=float(res.design.crank),
+                pitman=float(res.design.pitman),
+                X_O2=float(-res.design.pivot_x),
+                Y_O2=float(res.design.pivot_y),
+                peak_velocity=float(np.abs(m.polished_rod.velocity).max()),
+                peak_acceleration=float(np.abs(m.polished_rod.acceleration).max()),
+                max_pressure_angle_deg=float(np.rad2deg(np.max(m.pressure_angle))),
+            )
+        out[key] = row
+    a, v = out["acceleration_optimal"], out["velocity_optimal"]
+    if "peak_velocity" in a and "peak_velocity" in v:
+        # one design minimizes both when each optimum is within 0.1 % of the other's measure
+        out["one_design_for_both"] = bool(
+            a["peak_velocity"] <= v["peak_velocity"] * 1.001
+            and v["peak_acceleration"] <= a["peak_acceleration"] * 1.001
+        )
+    return out
+
+
+def _recommendation_lines(pitman, rec1, front_v, table):
+    lines = [
+        "",
+        "pitman force under the same idealized card (80 kN up, 45 kN down; massless links; "
+        "|R21| from the kinetostatics = W k1 / (k cos(pressure angle)) from the beam's moment "
+        "balance):",
+    ]
+    for name, p in pitman.items():
+        lines.append(
+            f"  {name:6s} peak {p['peak_pitman_force'] / 1e3:7.2f} kN at theta "
+            f"{p['at_theta_deg']:6.1f} deg (pressure angle {p['pressure_angle_there_deg']:5.2f} "
+            f"deg), mean {p['mean_pitman_force'] / 1e3:6.2f} kN; closed form to "
+            f"{p['closed_form_deviation']:.1e} N"
+        )
+    ax, b2 = pitman["axial"]["peak_pitman_force"], pitman["2b"]["peak_pitman_force"]
+    lines.append(
+        "  the desaxial unit's larger pressure angle loads the pitman more: 2b "
+        f"{100 * (b2 / ax - 1):+.1f} % against the axial unit (the paper's finding holds)"
+    )
+    lines.append(
+        f"recommendation 1 (smallest peak speed and acceleration): among the paper's variants the "
+        f"smallest peak speed is {rec1['smallest_peak_velocity']}'s "
+        f"({table[rec1['smallest_peak_velocity']]['peak_velocity']:.4f} m/s), the smallest peak "
+        f"acceleration {rec1['smallest_peak_acceleration']}'s "
+        f"({table[rec1['smallest_peak_acceleration']]['peak_acceleration']:.4f} m/s^2)"
+        + ("" if rec1["one_scheme_for_both"] else ": no variant is best in both")
+    )
+    syn = rec1["synthesis"]
+    for key, label in (
+        ("acceleration_optimal", "min peak acceleration"),
+        ("velocity_optimal", "min peak speed"),
+    ):
+        r = syn[key]
+        if "peak_velocity" in r:
+            lines.append(
+                f"  synthesis, {label} ({r['status']}): crank {r['crank']:.4f} m, pitman "
+                f"{r['pitman']:.4f} m, X_O2 {r['X_O2']:.4f} m, Y_O2 {r['Y_O2']:.4f} m: peak speed "
+                f"{r['peak_velocity']:.4f} m/s, peak acceleration {r['peak_acceleration']:.4f} "
+                f"m/s^2, max pressure angle {r['max_pressure_angle_deg']:.2f} deg"
+            )
+        else:
+            lines.append(f"  synthesis, {label}: {r['status']}")
+    if "one_design_for_both" in syn:
+        lines.append(
+            "  one design minimizes both: "
+            + ("yes" if syn["one_design_for_both"] else "no (the two objectives conflict)")
+        )
+    lines.append(
+        "Pareto front of the peak speed against the max pressure angle (recommendation 2 for "
+        "the speed; * non-dominated): bound deg -> max pressure angle deg, peak |v| m/s"
+    )
+    for i, r in enumerate(front_v.results):
+        if front_v.success[i]:
+            lines.append(
+                f"  {np.rad2deg(front_v.eps[i]):6.2f} -> {np.rad2deg(front_v.second[i]):6.2f}, "
+                f"{front_v.first[i]:.5f}{' *' if front_v.nondominated[i] else ''}"
+            )
+        else:
+            lines.append(f"  {np.rad2deg(front_v.eps[i]):6.2f} -> {r.status}")
+    return lines
+
+
+def _write_recommendations(out, theta, w, units, card, table, front_v):
+    """The pitman force figure and the speed-pressure front's figure and CSV."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .. import display
+    from ..plotting import LINESTYLES, PALETTE, crank_axis, style
+    from ..plotting import save as save_figure
+
+    files = []
+    x = np.rad2deg(theta)
+    colours = dict(zip(units, (PALETTE[4], PALETTE[5], PALETTE[3])))
+    names = {"axial": "axial", "2a": "desaxial 2a", "2b": "desaxial 2b"}
+    with style():
+        fig, axes = plt.subplots(2, 1, sharex=True, figsize=(8, 7), layout="constrained")
+        for k, (name, u) in enumerate(units.items()):
+            pf = pitman_force(u, theta, w, card)
+            kw = dict(color=colours[name], ls=LINESTYLES[k], label=names[name])
+            axes[0].plot(x, pf["force"] / 1e3, **kw)
+            axes[1].plot(x, np.rad2deg(pf["pressure_angle"]), **kw)
+        axes[0].set_ylabel("pitman force, kN")
+        axes[1].set_ylabel("pressure angle at B, deg")
+        axes[0].set_title(
+            f"Pitman force at {SPEED_SPM:g} SPM under the same idealized card "
+            f"{CARD_UP / 1e3:g}/{CARD_DOWN / 1e3:g} kN, massless links (paper 000)",
+            fontsize=9,
+        )
+        crank_axis(axes[1], THETA_LABEL)
+        handles, labels = axes[0].get_legend_handles_labels()
+        fig.legend(handles, labels, loc="outside lower center", ncol=3)
+        files.append(save_figure(fig, out / "beam_pump_pitman_force.png", dpi=110))
+
+        fig = front_v.plot(
+            title=f"Peak speed against pressure angle at {SPEED_SPM:g} SPM, same stroke and "
+            "beam (paper 000)"
+        )
+        ax = fig.axes[0]
+        for name, t in table.items():
+            ax.plot(
+                display.convert(np.deg2rad(t["max_pressure_angle_deg"]), "rad")[0],
+                display.convert(t["peak_velocity"], "m/s")[0],
+                "D",
+                ms=8,
+                color=colours[name],
+                mec="k",
+                label=f"paper 000: {names[name]}",
+            )
+        for leg in fig.legends:
+            leg.remove()
+        ax.margins(0.1)
+        fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncol=3)
+        files.append(save_figure(fig, out / "beam_pump_pareto_velocity.png", dpi=110))
+    front_v.to_csv(out / "beam_pump_pareto_velocity.csv")
+    files.append(out / "beam_pump_pareto_velocity.csv")
+    return files
 
 
 def _summary(base, fit, table, printed, findings, best, best_design, front):
