@@ -18,7 +18,7 @@ import sys
 
 from . import __version__, cli_function, cli_motion, cli_nomogram, cli_path
 from .errors import MechanismError, SolverError
-from .fileio import output_dir, save_figure, write_text
+from .fileio import WRITTEN, output_dir, save_figure, write_text
 from .jsonutil import dumps
 
 __all__ = ["main", "build_parser"]
@@ -718,20 +718,38 @@ def _run(argv, debug) -> int:
 
     parser = build_parser()
     args = parser.parse_args(argv)
+    WRITTEN.clear()
     try:
         if getattr(args, "out", None) is not None:
             output_dir(args.out, create=False)
         with display.display_units(getattr(args, "units", None) or "si"):
             with progress.quiet(getattr(args, "quiet", False) or progress.is_quiet()):
                 return int(args.func(args) or 0)
+    except KeyboardInterrupt:
+        _settle(args, "interrupted")
+        raise
     except Exception as exc:
         if debug:
             raise
         if _INTERRUPTED or _was_interrupted(exc):
+            _settle(args, "interrupted")
             raise KeyboardInterrupt from exc
         if isinstance(exc, BrokenPipeError):
             raise
+        _settle(args, "failed")
         return _report(exc)
+
+
+def _settle(args, status) -> None:
+    """A run into ``--out`` that did not finish leaves a manifest true to the files on disk."""
+    out = getattr(args, "out", None)
+    if not out:
+        return
+    from .fileio import settle_manifest
+
+    options = {k: v for k, v in vars(args).items() if k != "func"}
+    with contextlib.suppress(OSError, MechanismError):
+        settle_manifest(out, options, " ".join(sys.argv[1:]) or None, status)
 
 
 def _report(exc) -> int:

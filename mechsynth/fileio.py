@@ -43,6 +43,10 @@ __all__ = [
     "write_manifest",
 ]
 
+#: every file written completely (renamed into place) since the list was last cleared: the
+#: command line clears it when a run starts, so an interrupted run knows what it replaced
+WRITTEN: list[Path] = []
+
 #: largest input file read (bytes): problem, design and unit files and cards are small
 MAX_INPUT_BYTES = 64 * 2**20
 
@@ -173,6 +177,7 @@ def atomic(path, mode: str = "w", **open_kwargs):
             os.fsync(fh.fileno())
         os.chmod(tmp, 0o644)
         os.replace(tmp, path)
+        WRITTEN.append(path)
     except BaseException:
         with contextlib.suppress(OSError):
             os.unlink(tmp)
@@ -197,6 +202,7 @@ def atomic_path(path):
         yield tmp
         os.chmod(tmp, 0o644)
         os.replace(tmp, path)
+        WRITTEN.append(path)
     finally:
         shutil.rmtree(tmpdir, ignore_errors=True)
 
@@ -278,3 +284,49 @@ def write_manifest(out, files, options=None, command=None) -> Path:
         "files": entries,
     }
     return write_text(out / "manifest.json", json.dumps(data, indent=2, default=str) + "\n")
+
+
+def settle_manifest(out, options=None, command=None, status="interrupted") -> Path | None:
+    """After a run into ``out`` that did not finish (``status``), make ``manifest.json``
+    describe the files as they are: the previous run's files (hashed again: some were
+    replaced) and those this run completed (:data:`WRITTEN`), with the status. Nothing is
+    done when there is no manifest or when the run changed none of its files (a bad input
+    refused before any work keeps the previous run's manifest as it was)."""
+    from . import __version__
+
+    out = Path(out)
+    manifest = out / "manifest.json"
+    if not manifest.is_file():
+        return None
+    try:
+        old = json.loads(manifest.read_text(encoding="utf-8"))
+        listed = [e["file"] for e in old.get("files", [])]
+    except (OSError, ValueError, TypeError, KeyError, AttributeError):
+        old, listed = {}, []
+    root = out.resolve()
+    mine = []
+    for f in WRITTEN:
+        try:
+            name = str(Path(f).resolve().relative_to(root))
+        except ValueError:
+            continue  # written elsewhere
+        if name != "manifest.json":
+            mine.append(name)
+    if not mine:
+        return None
+    entries = []
+    for name in dict.fromkeys(listed + mine):  # in order, once
+        f = out / name
+        if f.is_file():
+            entries.append({"file": name, "bytes": f.stat().st_size, "sha256": sha256(f)})
+    data = {
+        "package": "mechsynth",
+        "version": __version__,
+        "command": command,
+        "options": options or {},
+        "status": status,
+        "note": "the run did not finish: the files of the previous run it had replaced and "
+        "those it completed are listed as they are on disk",
+        "files": entries,
+    }
+    return write_text(manifest, json.dumps(data, indent=2, default=str) + "\n")

@@ -128,6 +128,12 @@ def _interrupt_run(tmp_path, delays, sig=signal.SIGINT):
         assert _leftovers(out) == []
         for p in out.iterdir():
             assert p.read_bytes() == complete[p.name] or p.name == "manifest.json", p.name
+        # the manifest describes exactly the files on disk, whatever the run had replaced
+        manifest = json.loads((out / "manifest.json").read_text())
+        listed = {e["file"]: e["sha256"] for e in manifest["files"]}
+        assert set(listed) == {p.name for p in out.iterdir()} - {"manifest.json"}
+        for name, digest in listed.items():
+            assert fileio.sha256(out / name) == digest, name
 
 
 @pytest.mark.skipif(os.name != "posix", reason="SIGINT to a child process")
@@ -162,3 +168,27 @@ def test_a_writer_refuses_a_folder_and_a_non_path(tmp_path):
     with pytest.raises(ms.MechanismError, match="a file name must be a string or a path, got 3"):
         m.to_csv(3)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_an_unfinished_run_leaves_a_manifest_true_to_the_files(tmp_path, monkeypatch):
+    """A second run into the same folder, stopped after replacing a file, used to leave the
+    first run's manifest describing content that was no longer there."""
+    monkeypatch.setattr(fileio, "WRITTEN", [])
+    fileio.write_text(tmp_path / "a.csv", "first\n")
+    fileio.write_text(tmp_path / "b.csv", "first\n")
+    fileio.write_manifest(tmp_path, [tmp_path / "a.csv", tmp_path / "b.csv"], command="one")
+    fileio.WRITTEN.clear()
+    # nothing replaced (a bad input refused before any work): the manifest stays as it was
+    before = (tmp_path / "manifest.json").read_bytes()
+    assert fileio.settle_manifest(tmp_path, command="two") is None
+    assert (tmp_path / "manifest.json").read_bytes() == before
+    # the second run replaced a.csv and wrote c.csv, then was stopped
+    fileio.write_text(tmp_path / "a.csv", "second\n")
+    fileio.write_text(tmp_path / "c.csv", "second\n")
+    fileio.settle_manifest(tmp_path, command="two", status="interrupted")
+    manifest = json.loads((tmp_path / "manifest.json").read_text())
+    assert manifest["status"] == "interrupted" and manifest["command"] == "two"
+    listed = {e["file"]: e["sha256"] for e in manifest["files"]}
+    assert set(listed) == {"a.csv", "b.csv", "c.csv"}
+    for name, digest in listed.items():
+        assert fileio.sha256(tmp_path / name) == digest
