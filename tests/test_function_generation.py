@@ -147,6 +147,12 @@ def test_phase_scan_picks_an_admissible_design():
     assert fg.min_transmission_angle >= ms.deg(30)
     lengths = [fg.design.crank, fg.design.coupler, fg.design.rocker, fg.design.ground]
     assert max(lengths) / min(lengths) <= 20
+    # the listed alternatives: distinct, most accurate first, the chosen one at their head
+    sol = fg.solutions
+    assert len(sol) == 20 and sol[0]["max_error"] == pytest.approx(fg.max_error, rel=1e-9)
+    assert all(a["max_error"] <= b["max_error"] for a, b in zip(sol, sol[1:]))
+    assert len({(round(r["crank"], 9), round(r["rocker"], 9)) for r in sol}) == 20
+    assert all(r["min_transmission_angle"] >= ms.deg(30) - 1e-9 for r in sol)
     crank = _log_design(require_crank=True)
     assert crank.design.full_turn and crank.design.grashof.crank_rotates
 
@@ -184,7 +190,8 @@ def test_design_file_reads_back(tmp_path):
     fg = _log_design(phases=(ms.deg(120), ms.deg(20)))
     files = fg.write(tmp_path)
     assert {f.name for f in files} == {
-        "design.toml", "error.csv", "precision_points.csv", "result.json", "error.png"
+        "design.toml", "error.csv", "precision_points.csv", "solutions.csv", "result.json",
+        "error.png",
     }  # fmt: skip
     back = load_design(tmp_path / "design.toml").design
     assert back == fg.design

@@ -8,10 +8,10 @@ Conventions
   Angles are :class:`~mechsynth.kinematics.FourBar`'s: crank O1 -> A and rocker O2 -> B from
   +x, counter-clockwise, O1 at the origin, O2 at ``(ground, 0)``. For a slider-crank the output
   is the slider position ``s`` (the x of B, m) and ``output_range`` is in m.
-* ``phi0, psi0`` (the *phases*, where the ranges start) are given, or chosen by a scan over
-  whole turns in 5 deg steps: the most accurate design that assembles over the whole range on
-  one branch with a transmission angle of at least ``min_transmission`` and links within a
-  ratio of 20.
+* ``phi0, psi0`` (the *phases*, where the ranges start) are given, or chosen by a scan in 5 deg
+  steps (half a turn of each: a phase half a turn on gives the same four-bar with that link
+  reflected): the most accurate design that assembles over the whole range on one branch with
+  a transmission angle of at least ``min_transmission`` and links within a ratio of 20.
 * Three precision points give the exact solution of Freudenstein's equation
   (:mod:`.freudenstein`), more a least-squares fit of it; ``optimize=True`` then minimizes the
   worst true output error over the whole range (:mod:`.function_minmax`).
@@ -51,6 +51,7 @@ _POINT_TOL = 1e-7  # rad (relative to the crank for a slider), exact precision p
 _SCAN_POINTS = 121  # points of the range where scanned candidates are compared
 _SCAN_RETRIES = 8  # best scanned candidates checked on the whole grid
 _CHUNK = 1024  # candidates evaluated at once
+_SOLUTIONS = 20  # scanned designs listed in ``solutions``
 
 
 @dataclass(frozen=True)
@@ -83,6 +84,10 @@ class FunctionGeneration:
     start_max_error, start_error : for ``"min-max"``, ``max_error`` and ``error`` of the
         least-squares or exact start.
     solve : the certified :class:`~mechsynth.synthesis.Result` of the min-max stage.
+    solutions : the precision-point designs considered, most accurate first, as dicts (phases,
+        lengths, branch, ``max_error``, ``min_transmission_angle``; SI): the best admissible
+        ones of a phase scan (up to 20), else the one design; ``solutions.csv`` of
+        :meth:`write`.
     """
 
     design: Any
@@ -104,6 +109,7 @@ class FunctionGeneration:
     start_max_error: float | None = None
     start_error: np.ndarray | None = field(default=None, repr=False)
     solve: Any = field(default=None, repr=False)
+    solutions: tuple = field(default=(), repr=False)
 
     # ------------------------------------------------------------------ views
     @property
@@ -275,7 +281,8 @@ class FunctionGeneration:
 
     def write(self, out) -> list:
         """Write ``design.toml``, ``error.csv`` (the error curve), ``precision_points.csv``,
-        ``result.json`` and ``error.png`` into ``out``; returns the paths."""
+        ``solutions.csv``, ``result.json`` and ``error.png`` into ``out``; returns the
+        paths."""
         import matplotlib
 
         matplotlib.use("Agg")
@@ -285,7 +292,7 @@ class FunctionGeneration:
         from ..jsonutil import dumps
 
         out = output_dir(out)
-        unit = "rad" if self.angular else "m"
+        unit = out_unit = "rad" if self.angular else "m"
         files = [write_text(out / "design.toml", self.to_toml())]
         head = ["x" if self.precision_x is not None else "crank angle [rad]", f"error [{unit}]"]
         cols = [self.x, self.error]
@@ -300,6 +307,16 @@ class FunctionGeneration:
             head = ["x", *head]
             rows = np.column_stack([self.precision_x, pp]).tolist()
         files.append(write_csv(out / "precision_points.csv", head, rows))
+        if self.solutions:
+            keys = list(self.solutions[0])
+            units = {"phi0": "rad", "psi0": "rad", "max_error": out_unit,
+                     "min_transmission_angle": "rad", "branch": ""}  # fmt: skip
+            head = [f"{k} [{units.get(k, 'm')}]" if units.get(k, "m") else k for k in keys]
+            files.append(
+                write_csv(
+                    out / "solutions.csv", head, [[r[k] for k in keys] for r in self.solutions]
+                )
+            )
         files.append(write_text(out / "result.json", dumps(self.to_dict()) + "\n"))
         fig = self.plot()
         files.append(save_figure(fig, out / "error.png", dpi=120))
@@ -636,8 +653,9 @@ def function_generation(
         design = SliderCrank(scale, float(L[0]), float(e[0]))
         ph = (_turn(phi0s[i]), float(s0[0]))
         pp = np.column_stack([ph[0] + rel_in(xp), s0[0] + out_p])
-    i = 0
-    err = np.asarray(cand["curves"][i], float)
+    rows = order[:_SOLUTIONS] if scanned else np.array([i])
+    solutions = _solution_rows(evaluate(rows, xd, y_d), phi0s[rows], out0s[rows], four_bar, scale)
+    err = np.asarray(cand["curves"][0], float)
     res = FunctionGeneration(
         design=design,
         mechanism=mechanism,
@@ -651,10 +669,11 @@ def function_generation(
         error=err,
         error_y=err * (y1 - y0) / dout,
         max_error=float(np.max(np.abs(err))),
-        min_transmission_angle=float(cand["mu"][i]),
+        min_transmission_angle=float(cand["mu"][0]),
         domain=(x0, x1),
         y_range=(y0, y1),
         function=text,
+        solutions=solutions,
     )
     if optimize:
         return _optimize(res, f, rel_in, rel_out, dphi, require_crank, min_transmission,
@@ -662,12 +681,42 @@ def function_generation(
     return res
 
 
+def _solution_rows(cand, phi0s, out0s, four_bar, scale) -> tuple[dict, ...]:
+    """The valid candidates as rows (SI, the design's convention), most accurate first."""
+    rows = []
+    for j in np.flatnonzero(cand["ok"]):
+        if four_bar:
+            (a, b, c), (sa, sc) = cand["lengths"], cand["shifts"]
+            row = {
+                "phi0": _turn(phi0s[j] + sa[j]), "psi0": _turn(out0s[j] + sc[j]),
+                "crank": float(a[j]), "coupler": float(b[j]), "rocker": float(c[j]),
+                "ground": float(scale), "branch": str(cand["branch"][j]),
+            }  # fmt: skip
+        else:
+            L, e, s0 = cand["lengths"]
+            row = {
+                "phi0": _turn(phi0s[j]), "s0": float(s0[j]), "crank": float(scale),
+                "rod": float(L[j]), "offset": float(e[j]),
+            }  # fmt: skip
+        row["max_error"] = float(np.max(np.abs(cand["curves"][j])))
+        row["min_transmission_angle"] = float(cand["mu"][j])
+        rows.append(row)
+    unique = {}  # scanned phases half a turn apart can give one design twice
+    for r in sorted(rows, key=lambda r: r["max_error"]):
+        key = tuple(round(v, 9) if isinstance(v, float) else v for v in r.values())
+        unique.setdefault(key, r)
+    return tuple(unique.values())
+
+
 def _phase_candidates(phases, four_bar):
     if phases is None:
         grid = np.radians(np.arange(0.0, 360.0, _SCAN_STEP))
         if not four_bar:
             return grid, np.zeros_like(grid)
-        p, q = np.meshgrid(grid, grid, indexing="ij")
+        # phi0 + pi flips the signs of K1 and K3 (psi0 + pi: of K2 and K3): the same four-bar
+        # with its crank (rocker) reflected, so half a turn of each covers every design
+        half = grid[grid < np.pi]
+        p, q = np.meshgrid(half, half, indexing="ij")
         return p.ravel(), q.ravel()
     ph = list(phases) if isinstance(phases, (list, tuple, np.ndarray)) else None
     if ph is None or not 1 <= len(ph) <= 2:
