@@ -254,6 +254,13 @@ def test_min_max_keeps_the_transmission_limit_and_a_slider_crank_too():
     assert fs.solve.success and fs.max_error < fs.start_max_error
 
 
+def test_min_max_keeps_a_crank_that_turns():
+    fo = _log_design(require_crank=True, optimize=True)
+    assert fo.solve.success and fo.max_error < fo.start_max_error
+    assert fo.design.full_turn and fo.design.grashof.crank_rotates
+    fo.design.motion(ms.cycle(360))  # assembles over the whole turn
+
+
 def test_a_solution_starts_a_problem_of_ones_own():
     """Any design can start an ms.Problem: here with a tighter transmission limit."""
     from mechsynth import objectives as ob

@@ -223,7 +223,7 @@ class FunctionGeneration:
             err, shown = display.convert(np.asarray(self.error), unit)
             xlabel = "x" if self.precision_x is not None else display.label("crank angle", "rad")
             xs = self.x if self.precision_x is not None else display.convert(self.x, "rad")[0]
-            marker = "-" if self.precision_x is not None else "o-"
+            marker = "-" if self.precision_x is not None else "o"  # pairs: no curve between
             start = None
             first = "exact" if len(self.precision_points) == 3 else "least squares"
             if self.start_error is not None:
