@@ -148,3 +148,23 @@ def test_every_status_is_reachable():
     none = ms.Problem(ms.SliderCrank, variables={"crank": (0.2, 0.3), "rod": (0.05, 0.1)})
     seen["solver_failed"] = none.minimize(ob.peak_acceleration("slider")).solve(starts=1).status
     assert seen == {s: s for s in STATUSES}
+
+
+def test_one_start_in_a_mostly_invalid_box_is_found_not_reported_as_a_failure():
+    """crank, coupler, rocker in 0.1..3 m (ground 1 m): the first 16 Sobol points are not
+    crank-rockers; one start asked ended 'solver_failed' after 0 iterations."""
+    prob = ms.Problem(
+        ms.FourBar,
+        variables={"crank": (0.1, 3.0), "coupler": (0.1, 3.0), "rocker": (0.1, 3.0)},
+        fixed={"ground": 1.0},
+    )
+    prob.maximize(ob.min_transmission_angle())
+    prob.subject_to(ob.swing_angle() == ms.deg(40), ob.time_ratio() == 1)
+    res = prob.solve(starts=1, progress=False)
+    assert res.success, res.report()
+    assert res.certification.starts_run == 1 and res.certification.starts_skipped >= 16
+    fb = res.design  # re-evaluated independently of the solve
+    assert math.degrees(fb.swing_angle) == pytest.approx(40.0, abs=1e-4)
+    assert fb.time_ratio == pytest.approx(1.0, abs=1e-6)
+    mu = fb.motion(ms.cycle(20000)).transmission_angle
+    assert min(mu.min(), np.pi - mu.max()) == pytest.approx(res.value, abs=1e-7)

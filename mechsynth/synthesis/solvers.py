@@ -247,6 +247,9 @@ _LOCAL = {"ipopt": _ipopt, "slsqp": _slsqp}
 #: looking for valid start designs
 START_BUDGET = 8
 _MIN_CANDIDATES = 16
+#: points tried before a solve that found no valid start at all gives up: a box that is mostly
+#: invalid (a four-bar box of mostly non-crank-rockers) still yields its first start
+_FIRST_BUDGET = 256
 
 
 def _start_points(problem, tr: Transcription, starts, seed, x0, grid):
@@ -256,7 +259,9 @@ def _start_points(problem, tr: Transcription, starts, seed, x0, grid):
     A point is valid when the mechanism builds, moves over the grid, meets its
     ``feasibility_constraints`` and every measure of the problem evaluates to a finite number
     there (a swing angle of a double-crank does not); invalid points are replaced by the next
-    Sobol point, up to ``START_BUDGET`` points per start asked (at least 16).
+    Sobol point, up to ``START_BUDGET`` points per start asked (at least 16), and on to
+    ``_FIRST_BUDGET`` points while none was valid (one start asked in a mostly invalid box was
+    reported as a failed solve after 16 points).
     """
     from .sobol import sobol
 
@@ -265,11 +270,13 @@ def _start_points(problem, tr: Transcription, starts, seed, x0, grid):
     if x0 is not None:
         vals = [x0[k] if isinstance(x0, dict) else x0[i] for i, k in enumerate(problem.names)]
         candidates.append(tr.z_of(vals))
-    m = int(2 ** np.ceil(np.log2(max(START_BUDGET * starts, _MIN_CANDIDATES))))
+    budget = max(START_BUDGET * starts, _MIN_CANDIDATES)
+    m = int(2 ** np.ceil(np.log2(max(budget, _FIRST_BUDGET))))
     sob = sobol(tr.n, m, seed)
     candidates.extend(sob)
     for z in candidates:
-        if len(points) >= starts:
+        # the budget per start asked, past it only while no valid start was found at all
+        if len(points) >= starts or (tried >= budget and points):
             break
         tried += 1
         try:
