@@ -630,24 +630,6 @@ def plot_motion(bm: Burmester, candidate: Candidate | None = None, ax=None, titl
             if candidate.driven.centre is not None:
                 pts.append(np.array([candidate.driven.centre]))
         span = float(np.max(np.ptp(poses[:, :2], axis=0)))
-        arrow = 0.15 * span
-        for j, (x, y, a) in enumerate(poses):
-            ax.annotate(
-                "", xy=((x + arrow * np.cos(a)) / k, (y + arrow * np.sin(a)) / k),
-                xytext=(x / k, y / k),
-                arrowprops={"arrowstyle": "-|>", "color": PALETTE[5], "lw": 1.6}, zorder=6,
-            )  # fmt: skip
-            ax.plot(
-                [x / k, (x - 0.5 * arrow * np.sin(a)) / k],
-                [y / k, (y + 0.5 * arrow * np.cos(a)) / k],
-                color=PALETTE[5], lw=1.2, zorder=6,
-            )  # fmt: skip
-            ax.annotate(
-                str(j + 1),
-                ((x - 0.35 * arrow * np.cos(a)) / k, (y - 0.35 * arrow * np.sin(a)) / k),
-                ha="center", va="center", fontsize=8, color=PALETTE[5], zorder=7,
-                bbox={"boxstyle": "round,pad=0.1", "fc": "white", "ec": "none", "alpha": 0.8},
-            )  # fmt: skip
         ax.plot([], [], color=PALETTE[5], lw=1.4, label="poses (x axis, y axis)")
         poles = np.array([p for p in bm.poles.values() if p is not None])
         lo = np.min(np.concatenate(pts), axis=0)
@@ -684,6 +666,24 @@ def plot_motion(bm: Burmester, candidate: Candidate | None = None, ax=None, titl
         ax.set_xlim((lo[0] - 0.15 * size) / k, (hi[0] + 0.15 * size) / k)
         ax.set_ylim((lo[1] - 0.15 * size) / k, (hi[1] + 0.3 * size) / k)
         ax.set_aspect("equal", adjustable="box")
+        arrow = 0.07 * size
+        for j, (x, y, a) in enumerate(poses):
+            ax.annotate(
+                "", xy=((x + arrow * np.cos(a)) / k, (y + arrow * np.sin(a)) / k),
+                xytext=(x / k, y / k),
+                arrowprops={"arrowstyle": "-|>", "color": PALETTE[5], "lw": 1.6}, zorder=20,
+            )  # fmt: skip
+            ax.plot(
+                [x / k, (x - 0.5 * arrow * np.sin(a)) / k],
+                [y / k, (y + 0.5 * arrow * np.cos(a)) / k],
+                color=PALETTE[5], lw=1.2, zorder=20,
+            )  # fmt: skip
+            ax.annotate(
+                str(j + 1),
+                ((x - 0.35 * arrow * np.cos(a)) / k, (y - 0.35 * arrow * np.sin(a)) / k),
+                ha="center", va="center", fontsize=8, color=PALETTE[5], zorder=21,
+                bbox={"boxstyle": "round,pad=0.1", "fc": "white", "ec": "none", "alpha": 0.8},
+            )  # fmt: skip
         ax.set_xlabel(f"x, {unit}")
         ax.set_ylabel(f"y, {unit}")
         if title is None:
