@@ -207,3 +207,18 @@ def test_bad_input_is_named():
         ms.SpatialPumpingUnit.from_planar(u, 1.2, equalizer_offset=float("nan"))
     with pytest.raises(ms.MechanismError, match="full turn"):
         ms.SpatialPumpingUnit.from_planar(u.replace(crank=3.0), 1.2)
+
+
+def test_shapes_and_large_deviations_end_in_one_named_error():
+    """A flat list of spacings was a numpy broadcast error; deviations inside the documented
+    limits but too large for the geometry were 'LinAlgError: Singular matrix'."""
+    u = unit()
+    with pytest.raises(ms.MechanismError, match=r"crank_spacing has shape \(2,\): a batch"):
+        ms.SpatialPumpingUnit.from_planar(u, [1.1, 1.2]).motion(TH)
+    with pytest.raises(ms.MechanismError, match="do not broadcast"):
+        ms.SpatialPumpingUnit.from_planar(
+            u, np.full((2, 1), 1.2), phase_mismatch=np.zeros((3, 1))
+        )
+    base = ms.SpatialPumpingUnit.from_planar(u, 1.2)
+    with pytest.raises(ms.MechanismError, match="does not assemble at crank angle"):
+        ms.SpatialPumpingUnit.from_planar(u, 1.2, pitman_difference=0.5 * base.pitman).motion(TH)

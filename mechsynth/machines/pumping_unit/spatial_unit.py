@@ -48,6 +48,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from ... import validate
 from ...dynamics.spatial_kinetostatics import BeamSection
 from ...errors import MechanismError
 from ...kinematics import ops
@@ -217,6 +218,14 @@ class SpatialPumpingUnit(Mechanism):
         object.__setattr__(self, "pivot_x", check_finite("pivot_x", self.pivot_x))
         for name in DEVIATIONS:
             object.__setattr__(self, name, check_finite(name, getattr(self, name)))
+        values = {k: getattr(self, k) for k in self.parameters}
+        for name, v in values.items():  # a batch of designs is a column (its angles the rows)
+            if np.ndim(v) == 1 and np.size(v) > 1:
+                raise MechanismError(
+                    f"{name} has shape {np.shape(v)}: a batch of designs is a column, e.g. "
+                    f"np.asarray({name})[:, None] of shape ({np.size(v)}, 1)"
+                )
+        validate.broadcast(**values)
         object.__setattr__(self, "unit_class", _unit_class(self.unit_class))
         object.__setattr__(self, "rotation", _rotation(self.rotation))
         if self.joints not in JOINTS:
@@ -454,8 +463,11 @@ class SpatialPumpingUnit(Mechanism):
                 J[..., 0, k] = dot(u, du) / lp_l
                 J[..., 1, k] = dot(v, dv) / lp_r
                 J[..., 2, k] = (dot(cross(du, v) + cross(u, dv), e) + dot(uv, de)) / scale
-            with np.errstate(all="ignore"):
-                step = np.linalg.solve(J, -f[..., None])[..., 0]
+            try:
+                with np.errstate(all="ignore"):
+                    step = np.linalg.solve(J, -f[..., None])[..., 0]
+            except np.linalg.LinAlgError:  # a singular Jacobian: judged by the residuals below
+                break
             if not np.all(np.isfinite(step)):
                 break
             beta = beta + step[..., 0]
@@ -503,7 +515,13 @@ class SpatialPumpingUnit(Mechanism):
         rhs[..., 0:3] = rhs_loop_l
         rhs[..., 3:6] = rhs_loop_r
         rhs[..., 9] = rhs_coplanar
-        x = np.linalg.solve(M, rhs[..., None])[..., 0]
+        try:
+            x = np.linalg.solve(M, rhs[..., None])[..., 0]
+        except np.linalg.LinAlgError:
+            raise MechanismError(
+                "the spatial drive passes a singular position (its velocity equations have no "
+                "unique solution): deviations too large for the geometry"
+            ) from None
         return x[..., 0:3], x[..., 3:6], x[..., 6:9], x[..., 9]
 
     def _analysis(self, theta, order=2):
