@@ -254,6 +254,26 @@ def test_min_max_keeps_the_transmission_limit_and_a_slider_crank_too():
     assert fs.solve.success and fs.max_error < fs.start_max_error
 
 
+@pytest.mark.slow
+def test_min_max_is_local_more_starts_in_a_wider_box_do_better():
+    wide = {"crank": (0.05, 5.0), "coupler": (0.2, 10.0), "rocker": (0.02, 5.0),
+            "phi0": (0.0, 2 * np.pi), "psi0": (-np.pi, np.pi)}  # fmt: skip
+    kw = dict(phases=(ms.deg(120), ms.deg(20)), points=5, optimize=True, min_transmission=None)
+    near = _log_design(**kw)
+    far = _log_design(**kw, starts=24, bounds=wide)
+    assert far.solve.success and far.solve.certification.certified
+    assert ms.to_deg(near.max_error) == pytest.approx(0.92369, abs=1e-4)
+    assert ms.to_deg(far.max_error) < 0.79  # 0.7809 deg, the rocker at its bound of 5 m
+    assert far.solve.on_bounds() == {"rocker": "upper"}
+
+
+def test_bad_bounds_are_named():
+    with pytest.raises(ms.MechanismError, match="bounds must be a dict"):
+        _log_design(phases=(ms.deg(120), ms.deg(20)), optimize=True, bounds=[1, 2])
+    with pytest.raises(ms.MechanismError, match="outside its bounds"):
+        _log_design(phases=(ms.deg(120), ms.deg(20)), optimize=True, bounds={"crank": (1, 2)})
+
+
 def test_min_max_keeps_a_crank_that_turns():
     fo = _log_design(require_crank=True, optimize=True)
     assert fo.solve.success and fo.max_error < fo.start_max_error

@@ -528,6 +528,7 @@ def function_generation(
     min_transmission: float | None = np.radians(30.0),
     n_eval: int = 401,
     starts: int = 1,
+    bounds: dict | None = None,
 ) -> FunctionGeneration:
     """Design a four-bar or slider-crank that generates ``y = f(x)`` (see the module notes).
 
@@ -556,6 +557,11 @@ def function_generation(
         stage; None for no limit.
     n_eval : points of the range where the structural error is evaluated.
     starts : multi-starts of the min-max stage (its start design is tried first).
+    bounds : ``{name: (lo, hi)}`` of the min-max stage's variables (``crank``, ``coupler``,
+        ``rocker``, ``phi0``, ``psi0``; a slider-crank's ``rod``, ``offset``, ``phi0``, ``s0``)
+        replacing its default box around the start (lengths within a factor 4, phases within
+        60 deg, ``s0`` within a crank length). The stage is a local solve from the start: more
+        starts in a wider box may find a smaller worst error.
 
     Returns
     -------
@@ -677,7 +683,7 @@ def function_generation(
     )
     if optimize:
         return _optimize(res, f, rel_in, rel_out, dphi, require_crank, min_transmission,
-                         starts)  # fmt: skip
+                         starts, bounds)  # fmt: skip
     return res
 
 
@@ -852,7 +858,7 @@ def _from_pairs(pairs, four_bar, scale, require_crank, n_eval):
     )
 
 
-def _optimize(res, f, rel_in, rel_out, dphi, require_crank, min_transmission, starts):
+def _optimize(res, f, rel_in, rel_out, dphi, require_crank, min_transmission, starts, bounds):
     """The min-max stage from ``res`` (exact or least squares)."""
     from .function_minmax import minmax
 
@@ -866,7 +872,9 @@ def _optimize(res, f, rel_in, rel_out, dphi, require_crank, min_transmission, st
         raise MechanismError("require_crank: the start design's crank cannot make full turns")
     if min_transmission is not None:  # the start must be feasible
         min_transmission = min(min_transmission, res.min_transmission_angle * (1 - 1e-6))
-    sol = minmax(start, target, min_transmission=min_transmission, starts=starts)
+    if bounds is not None and not isinstance(bounds, dict):
+        raise MechanismError(f"bounds must be a dict {{name: (lo, hi)}}, got {bounds!r}")
+    sol = minmax(start, target, bounds=bounds, min_transmission=min_transmission, starts=starts)
     if sol.design is None:
         return _replace(res, sol, res.design, res.phases, res.error, res.min_transmission_angle)
     g = sol.design
