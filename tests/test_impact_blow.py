@@ -101,3 +101,10 @@ def test_blow_bad_input():
         blow_angle(lk, "N", s + 1.0, sense)
     with pytest.raises(ms.MechanismError, match="rebound turns the crank backwards"):
         blow(lk, INERTIAS, phi, W, Tool(200.0, 1.0), sense=sense)
+
+
+def test_blow_names_a_speed_that_is_not_a_number():
+    from mechsynth.machines.impact.design import representative_machine
+
+    with pytest.raises(ms.MechanismError, match=r"omega\) must be a number \(rad/s\), got 'fast'"):
+        representative_machine("six").blow(omega="fast")

@@ -123,3 +123,15 @@ def test_example_file_is_the_representative_six_link():
     for p in ("A", "B", "K", "N"):
         assert np.allclose(a.points[p].x, b.points[p].x, atol=1e-15)
         assert np.allclose(a.points[p].y, b.points[p].y, atol=1e-15)
+
+
+def test_builders_name_a_bad_argument():
+    """numpy's 'could not convert string to float' and a ufunc TypeError reached the user."""
+    for call, match in [
+        (lambda: ms.five_link(base_radius="x"), "base_radius must be a number"),
+        (lambda: ms.five_link(rho="x"), "rho must be a number"),
+        (lambda: ms.five_link(margin=-1.0), "margin must be positive"),
+        (lambda: ms.six_link(arm_angle="a"), "arm_angle must be a number"),
+    ]:
+        with pytest.raises(ms.MechanismError, match=match):
+            call()

@@ -241,8 +241,8 @@ def blow(linkage, inertias, phi, omega, tool: Tool, *, striker="N", sense=1, dri
         if the striker does not move towards the tool, or if the rebound would turn the crank
         backwards (``omega^+ <= 0``: the rigid-drive model no longer holds).
     """
-    omega = float(omega)
-    if not math.isfinite(omega) or omega <= 0:
+    omega = validate.number("crank speed before the blow (omega)", omega, "rad/s")
+    if omega <= 0:
         raise MechanismError(f"crank speed before the blow must be positive, got {omega}")
     if not math.isfinite(float(drive_inertia)) or float(drive_inertia) < 0:
         raise MechanismError(f"drive_inertia must be a non-negative inertia, got {drive_inertia}")

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ... import validate
 from ...errors import MechanismError
 from ...kinematics import ops
 from ...kinematics.curves import Circle, Involute
@@ -114,6 +115,8 @@ def crank_rocker(
     arm = r["arm"] if arm is None else arm
     if arm_angle is None:
         arm_angle = _default_arm_angle(ground, crank, rod, rocker)
+    elif not ops.is_symbolic(arm_angle):
+        arm_angle = validate.real("arm_angle", arm_angle, "rad")
     lk = _four_bar(ground, crank, rod, rocker, name).attach(
         "K", on=("D", "B"), along=arm * np.cos(arm_angle), left=arm * np.sin(arm_angle)
     )
@@ -203,10 +206,9 @@ def five_link(
     crank = r["crank"] if crank is None else crank
     rod = r["rod"] if rod is None else rod
     rocker = r["rocker"] if rocker is None else rocker
-    rb = 0.055 if base_radius is None else float(base_radius)
-    rho = deg(r["rho_deg"]) if rho is None else float(rho)
-    if not rb > 0:
-        raise MechanismError(f"base_radius must be a positive length in m, got {base_radius}")
+    rb = 0.055 if base_radius is None else validate.length("base_radius", base_radius)
+    rho = deg(r["rho_deg"]) if rho is None else validate.number("rho", rho, "rad")
+    margin = validate.positive("margin", margin, "rad")
     lo, hi = rocker_swing(ground, crank, rod, rocker)
     # the contact's roll angle: sigma = rho + pi/2 - phase - theta3 (rocker angle theta3)
     phase = rho + np.pi / 2 - hi - margin
