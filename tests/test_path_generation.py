@@ -259,3 +259,82 @@ def test_published_benchmarks_beaten(name):
     expected = {"bulatovic-18": 3.13369e-3, "bulatovic-12": 7.60894e-5}[name]
     assert r.error == pytest.approx(expected, rel=1e-4)
     _check_independently(r.best, case.targets, min_mu=ms.deg(case.published_mu))
+
+
+def _six_bar():
+    """A Stephenson six-bar: a four-bar O-A-B-D, a dyad C-F-E hung from the coupler point C and
+    the ground point E, the tracing point P on the link C-F."""
+    return (
+        ms.Linkage(ground={"O": (0, 0), "D": (1.0, 0.1), "E": (0.2, 1.2)})
+        .crank("A", about="O", length=0.25)
+        .rrr("B", ("A", 0.9), ("D", 0.7))
+        .attach("C", on=("A", "B"), along=0.4, left=0.3)
+        .rrr("F", ("C", 0.8), ("E", 0.7))
+        .attach("P", on=("C", "F"), along=0.5, left=-0.2)
+        .with_output("P")
+    )
+
+
+SIX_VARIABLES = {
+    "CF": (0.5, 1.1),
+    "EF": (0.4, 1.0),
+    "P_along": (0.0, 1.0),
+    "P_left": (-0.5, 0.5),
+    "E_x": (-0.2, 0.6),
+}
+
+
+def test_known_six_bar_recovered_to_round_off():
+    lk = _six_bar()
+    phi = np.array([0.2, 0.9, 1.6, 2.4, 3.1, 3.9, 4.6, 5.3, 5.9])
+    m = lk.motion(phi)
+    pts = np.column_stack([m.points["P"].x, m.points["P"].y])
+    start = lk(CF=0.85, EF=0.65, P_along=0.45, P_left=-0.15, E_x=0.25)
+    r = ms.path_generation(pts, mechanism=start, variables=SIX_VARIABLES, starts=6)
+    assert r.success and r.error < 1e-26
+    for k, v in r.best.values.items():
+        assert v == pytest.approx(lk.parameters[k], abs=1e-9)
+    np.testing.assert_allclose(r.angles, phi, atol=1e-9)
+    assert r.fourbar is None and r.design.parameters["CF"] == pytest.approx(0.8)
+    # every group assembles over the whole turn, on one branch (margins stay positive)
+    margins = r.design.assembly_margins(ms.cycle(7200))
+    assert min(float(np.min(v)) for v in margins.values()) > 1e-3
+    assert "linkage" in r.summary()
+
+
+@pytest.mark.slow
+def test_linkage_min_transmission_and_slider_crank():
+    case = CASES["bulatovic-12"]
+    r = ms.path_generation(case.targets, mechanism="slider-crank", starts=4,
+                           min_transmission=ms.deg(30))  # fmt: skip
+    assert r.success
+    m = r.design.motion(ms.cycle(7200))
+    for mu in m.transmission_angles.values():
+        assert np.minimum(mu, np.pi - mu).min() >= ms.deg(30) - 1e-7
+    assert r.best.transmission[0] >= ms.deg(30) - 1e-7
+    q = r.design.motion(r.angles).points["P"]
+    d2 = (q.x - case.targets[:, 0]) ** 2 + (q.y - case.targets[:, 1]) ** 2
+    assert d2.sum() == pytest.approx(r.error, rel=1e-9)
+    assert np.all(np.diff(r.angles) >= -1e-9) and r.angles[-1] - r.angles[0] <= 2 * np.pi + 1e-9
+
+
+@pytest.mark.parametrize(
+    "kw, match",
+    [
+        ({"mechanism": "slider-crank", "bounds": {"crank": (1, 2)}}, "bounds are the four-bar"),
+        ({"mechanism": "slider-crank", "variables": {"XX": (1, 2)}}, "dimensions are"),
+        ({"trace": "P"}, "trace and variables are for a Linkage"),
+        ({"mechanism": 3}, "mechanism must be"),
+    ],
+)
+def test_bad_linkage_input(kw, match):
+    with pytest.raises(MechanismError, match=match):
+        ms.path_generation([(0, 0), (1, 0), (1, 1)], **kw)
+
+
+def test_bad_linkage_variables():
+    with pytest.raises(MechanismError, match="has no parameter 'ZZ'"):
+        ms.path_generation([(0, 0), (1, 0), (1, 1)], mechanism=_six_bar(), variables={"ZZ": (0, 1)})
+    with pytest.raises(MechanismError, match="no point 'Q'"):
+        ms.path_generation([(0, 0), (1, 0), (1, 1)], mechanism=_six_bar(), trace="Q",
+                           variables={"CF": (0.5, 1)})  # fmt: skip

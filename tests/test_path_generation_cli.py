@@ -19,7 +19,7 @@ def _csv(path, rows, header="x,y"):
 def test_run_writes_files_and_a_design_the_readers_accept(tmp_path, capsys):
     f = _csv(tmp_path / "t.csv", CASES["bulatovic-12"].targets)
     out = tmp_path / "out"
-    code = main(["synthesize", "path", str(f), "--min-transmission", "30deg", "--starts", "4",
+    code = main(["synthesize", "path", str(f), "--min-transmission", "30deg", "--starts", "2",
                  "--out", str(out), "--quiet"])  # fmt: skip
     assert code == 0
     text = capsys.readouterr().out

@@ -23,40 +23,49 @@ def path_figure(result, n: int = 360, show: int | None = None):
     t = result.targets / f
     phi = np.linspace(0.0, 2.0 * np.pi, n + 1)
     curve = best.trace(phi) / f
-    pos = {k: v / f for k, v in best.positions().items()}
+    at = best.trace(best.angles) / f
     m = len(t)
     show = min(m, 4) if show is None else max(0, min(int(show), m))
     pick = np.unique(np.round(np.linspace(0, m - 1, show)).astype(int)) if show else []
+    sk = best.linkage.sketch(best.angles)
+    pts = {k: (np.broadcast_to(x, (m,)) / f, np.broadcast_to(y, (m,)) / f)
+           for k, (x, y) in sk.points.items()}  # fmt: skip
     with style():
         fig, ax = plt.subplots(figsize=(8.0, 5.2))
         for j, i in enumerate(pick):
-            xs = [pos[k][i, 0] for k in ("O1", "A", "B", "O2")]
-            ys = [pos[k][i, 1] for k in ("O1", "A", "B", "O2")]
             alpha = 1.0 if j == 0 else 0.35
-            ax.plot(xs, ys, "-", color=PALETTE[4], lw=1.2, alpha=alpha,
-                    label="linkage at the targets" if j == 0 else None)  # fmt: skip
-            tri = np.array([pos["A"][i], pos["B"][i], pos["P"][i], pos["A"][i]])
-            ax.fill(tri[:, 0], tri[:, 1], color=PALETTE[4], alpha=0.12 * alpha)
-            ax.plot(tri[:, 0], tri[:, 1], "-", color=PALETTE[4], lw=0.8, alpha=alpha)
+            for k, bar in enumerate(sk.bars):
+                xy = np.array([[pts[p][0][i], pts[p][1][i]] for p in bar.points])
+                if bar.closed and len(xy) > 2:
+                    ax.fill(xy[:, 0], xy[:, 1], color=PALETTE[4], alpha=0.12 * alpha)
+                    xy = np.vstack([xy, xy[:1]])
+                ax.plot(xy[:, 0], xy[:, 1], "-", color=PALETTE[4], lw=1.2, alpha=alpha,
+                        label="linkage at the targets" if j == 0 and k == 0 else None)  # fmt: skip
         ax.plot(curve[:, 0], curve[:, 1], "-", color=PALETTE[1], label="coupler curve")
-        ax.plot(pos["P"][:, 0], pos["P"][:, 1], "o", ms=3.5, color=PALETTE[1],
+        ax.plot(at[:, 0], at[:, 1], "o", ms=3.5, color=PALETTE[1],
                 label="coupler point at the targets")  # fmt: skip
         ax.plot(t[:, 0], t[:, 1], "x", ms=6, mew=1.5, color=PALETTE[6], label="targets")
-        for k in ("O1", "O2"):
-            ax.plot(*pos[k][0], "^", ms=8, color=PALETTE[0])
-            ax.annotate(k, pos[k][0], textcoords="offset points", xytext=(5, -11), fontsize=8)
+        for k in sk.ground:
+            g = (pts[k][0][0], pts[k][1][0])
+            ax.plot(*g, "^", ms=8, color=PALETTE[0])
+            ax.annotate(k, g, textcoords="offset points", xytext=(5, -11), fontsize=8)
+        ax.set_aspect("equal", adjustable="datalim")
+        fig.canvas.draw()  # the final limits, to keep the labels of crowded targets apart
+        xy = ax.transData.transform(t)
+        kept: list[np.ndarray] = []
         for i, (x, y) in enumerate(t):
-            if m <= 24 or i % max(1, m // 12) == 0:
+            if all(np.hypot(*(xy[i] - q)) > 14.0 for q in kept):  # display pixels
+                kept.append(xy[i])
                 ax.annotate(str(i + 1), (x, y), textcoords="offset points", xytext=(4, 4),
                             fontsize=7, color=PALETTE[6])  # fmt: skip
-        ax.set_aspect("equal", adjustable="datalim")
         ax.set_xlabel(f"x, {unit}")
         ax.set_ylabel(f"y, {unit}")
         mu0, mu1 = np.rad2deg(best.transmission)
+        kind = f"{best.branch} branch" if best.branch else best.linkage.name
         ax.set_title(
-            f"path generation, {result.timing} timing: error {best.error:.4g} {unit}²"
+            f"path generation, {result.timing} timing: error {best.error / f**2:.4g} {unit}²"
             f" ({'sum of squares' if result.objective == 'squares' else 'largest square'}),\n"
-            f"transmission angle {mu0:.1f}-{mu1:.1f} deg, {best.branch} branch"
+            f"transmission angle {mu0:.1f}-{mu1:.1f} deg, {kind}"
         )
         ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0))
     return fig

@@ -322,12 +322,14 @@ class PathResult:
             lines.append(
                 f"#{k}: error {s.error:.6g} m^2 (sum of squares {s.sum_squares:.6g}, largest "
                 f"distance {s.max_distance:.4g} m), transmission {mu0:.2f}-{mu1:.2f} deg, "
-                f"{s.branch}" + (f", {s.note}" if s.note else "")
+                f"{s.branch or 'linkage'}" + (f", {s.note}" if s.note else "")
             )
         b = self.best
-        lines.append(
-            "best: " + ", ".join(f"{k} {getattr(b, k):.6g}" for k in NAMES) + f", {b.branch} branch"
-        )
+        if isinstance(b, PathSolution):
+            text = ", ".join(f"{k} {getattr(b, k):.6g}" for k in NAMES) + f", {b.branch} branch"
+        else:
+            text = ", ".join(f"{k} {v:.6g}" for k, v in b.values.items())
+        lines.append("best: " + text)
         return "\n".join(lines)
 
     def as_dict(self) -> dict:
@@ -574,7 +576,10 @@ def path_generation(
     time_limit: float | None = None,
     feasibility_margin: float = 1e-3,
     progress: bool | None = None,
-    mechanism: str = "four-bar",
+    mechanism="four-bar",
+    trace: str | None = None,
+    variables: dict | None = None,
+    seed: int = 0,
 ) -> PathResult:
     """A four-bar whose coupler point passes as near as possible to ``targets``.
 
@@ -599,7 +604,13 @@ def path_generation(
     time_limit : stop starting new solves after this many seconds (the best so far is kept).
     feasibility_margin : relative margin of the full-turn conditions (as ``FourBar``'s).
     progress : a progress bar (None: on a terminal only).
-    mechanism : ``"four-bar"`` (the only one built so far).
+    mechanism : ``"four-bar"`` (the default: its coupler point, placed anywhere in the plane),
+        ``"slider-crank"`` (a point on the rod of a slider-crank whose guide is anywhere:
+        :func:`~mechsynth.synthesis.path_linkage.slider_crank_template`), or any
+        :class:`~mechsynth.Linkage` driven by a crank, with ``trace`` (its tracing point;
+        default its output) and ``variables`` (``{parameter: (lower, upper)}``, the dimensions
+        to vary; for the slider-crank, bounds that replace the defaults). A general linkage
+        starts from its own values and random designs that assemble; ``seed`` fixes those.
 
     Returns
     -------
@@ -608,7 +619,9 @@ def path_generation(
         the best design found so far (status ``"interrupted"``).
     """
     t_start = time.perf_counter()
-    validate.option("mechanism", mechanism, ("four-bar",))
+    general = not isinstance(mechanism, str)
+    if not general:
+        validate.option("mechanism", mechanism, ("four-bar", "slider-crank"))
     validate.option("timing", timing, TIMINGS)
     validate.option("objective", objective, OBJECTIVES)
     if not isinstance(closed, (bool, np.bool_)):
@@ -640,6 +653,30 @@ def path_generation(
     margin = validate.nonnegative("feasibility_margin", feasibility_margin)
     if time_limit is not None:
         time_limit = validate.positive("time_limit", time_limit, "s")
+    if general or mechanism == "slider-crank":
+        return _general(
+            t,
+            mechanism,
+            trace,
+            variables,
+            bounds,
+            timing,
+            given,
+            min_mu,
+            objective,
+            starts,
+            time_limit,
+            margin,
+            progress,
+            seed,
+            closed,
+            t_start,
+        )
+    if trace is not None or variables is not None:
+        raise MechanismError(
+            "trace and variables are for a Linkage or the slider-crank; the four-bar's "
+            f"variables are {', '.join(NAMES)} (bounds=...)"
+        )
     bnds = _check_bounds(bounds, t)
 
     centre = t.mean(axis=0)
@@ -742,6 +779,84 @@ def path_generation(
         bounds=bnds,
         message="" if distinct else (why or "no start ended on a design whose crank turns"),
     )
+
+
+def _general(t, mechanism, trace, variables, bounds, timing, given, min_mu, objective, starts,
+             time_limit, margin, progress, seed, closed, t_start):  # fmt: skip
+    """Path generation on a Linkage (or the slider-crank template)."""
+    from .path_linkage import linkage_path_generation, slider_crank_template
+
+    if bounds is not None:
+        raise MechanismError("bounds are the four-bar's; give a linkage's as variables=...")
+    if mechanism == "slider-crank":
+        lk = slider_crank_template()
+        var = _slider_crank_variables(t)
+        for k, b in (variables or {}).items():
+            if k not in var:
+                raise MechanismError(
+                    f"variables: the slider-crank's dimensions are {', '.join(var)}, got {k!r}"
+                )
+            var[k] = b
+        trace = trace or "P"
+    else:
+        lk, var = mechanism, dict(variables or {})
+    checked = {}
+    for k, b in var.items():
+        if not isinstance(b, (tuple, list, np.ndarray)) or len(b) != 2:
+            raise MechanismError(f"variables[{k!r}] must be (lower, upper), got {b!r}")
+        lo = validate.number(f"variables[{k!r}] lower", b[0])
+        hi = validate.number(f"variables[{k!r}] upper", b[1])
+        if not lo < hi:
+            raise MechanismError(f"variables[{k!r}]: need lower < upper, got ({lo}, {hi})")
+        checked[k] = (lo, hi)
+    sols, ran, distinct, status, why = linkage_path_generation(
+        t, lk, trace=trace, variables=checked, timing=timing,
+        given=given if timing == "prescribed" else None, min_mu=min_mu, objective=objective,
+        starts=starts, time_limit=time_limit, margin=max(margin, 1e-9), progress=progress,
+        seed=seed,
+    )  # fmt: skip
+    return PathResult(
+        targets=t,
+        best=sols[0] if sols else None,
+        solutions=tuple(sols),
+        timing=timing,
+        objective=objective,
+        closed=bool(closed),
+        min_transmission=min_mu,
+        starts=ran,
+        distinct=distinct,
+        status=status,
+        seconds=time.perf_counter() - t_start,
+        error_definition=ERROR_DEFINITION[objective],
+        bounds=checked,
+        message="" if sols else (why or "no start ended on a design that assembles"),
+    )
+
+
+def _same_values(a, b, rtol=1e-4) -> bool:
+    """Two general-linkage solutions are one optimum: same error, same dimensions."""
+    if abs(a.error - b.error) > rtol * max(abs(a.error), abs(b.error)) + 1e-14:
+        return False
+    x = np.array(list(a.values.values()))
+    y = np.array(list(b.values.values()))
+    return bool(np.abs(x - y).max() <= 1e-3 * max(np.abs(x).max(), 1e-300))
+
+
+def _slider_crank_variables(t):
+    """Bounds of the slider-crank template's dimensions, scaled with the targets."""
+    lo, hi = t.min(axis=0), t.max(axis=0)
+    d = float(np.hypot(*(hi - lo)))
+    return {
+        "O_x": (lo[0] - 5 * d, hi[0] + 5 * d),
+        "O_y": (lo[1] - 5 * d, hi[1] + 5 * d),
+        "OA": (d / 200, 5 * d),
+        "AB": (d / 100, 10 * d),
+        "G_x": (lo[0] - 5 * d, hi[0] + 5 * d),
+        "G_y": (lo[1] - 5 * d, hi[1] + 5 * d),
+        "guide_angle": (-np.pi, np.pi),
+        "P_along": (-10 * d, 10 * d),
+        "P_left": (-10 * d, 10 * d),
+    }
 
 
 def _polish(fun, z, P, lbx, ubx):
