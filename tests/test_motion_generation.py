@@ -224,7 +224,7 @@ def test_count_of_real_burmester_points(poses, count):
     assert len(rr) == count
     for d in rr:  # constant dyad length over all poses, to round-off
         assert d.residual < 1e-12 * np.ptp(np.asarray(poses)[:, :2], axis=0).max()
-    found = _independent_roots(poses, starts=150 if count else 300)
+    found = _independent_roots(poses, starts=150)
     assert len(found) == count
     for g in found:
         assert min(np.hypot(*(np.asarray(d.centre) - g[:2])) for d in rr) < 1e-7
@@ -379,3 +379,27 @@ def test_all_pairs_are_candidates():
     mg = ms.motion_generation(POSES5)
     rr = [d for d in mg.dyads if d.kind == "RR"]
     assert len(mg.candidates) == len(list(itertools.permutations(rr, 2)))
+
+
+def test_poses_differing_by_a_translation_use_another_pole():
+    poses = [[0, 0, 0], [1, 0, 0], [2, 1, 0.5], [0, 1, 0.9]]  # P12 at infinity
+    bm = ms.burmester(poses)
+    assert bm.poles[(1, 2)] is None
+    kc = bm.circle_curve(200)
+    kc = kc[np.isfinite(kc[:, 0])]
+    assert len(kc) > 50 and max(bm.centre_point(z).residual for z in kc[::10]) < 1e-12
+    assert ms.motion_generation(poses).defect_free
+    five = [[0, 0, 0], [1, 0, 0], [2, 1, 0.5], [0, 1, 0.9], [1, 1, 1.5]]
+    for d in ms.burmester(five).points:
+        assert d.residual < 1e-12
+    with pytest.raises(ms.MechanismError, match="translations only"):
+        ms.burmester([[0, 0, 0], [1, 0, 0], [2, 1, 0], [3, 0, 0]]).centre_curve()
+
+
+def test_burmester_plot_draws_a_candidate():
+    import matplotlib.pyplot as plt
+
+    mg = ms.motion_generation(POSES5)
+    fig = mg.burmester.plot(mg.best)
+    assert "defects: none" in fig.axes[0].get_title()
+    plt.close(fig)

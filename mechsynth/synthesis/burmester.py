@@ -315,9 +315,16 @@ class Burmester:
         n = validate.integer("n", n, 16, 100_000)
         q = self._q()
         q = np.swapaxes(q, 1, 2) if transpose else q
-        base = self._norm(self.poles[(1, 2)] if self.poles[(1, 2)] is not None else (np.nan,) * 2)
-        if not np.all(np.isfinite(base)):
-            raise MechanismError("poses 1 and 2 differ by a translation only: reorder the poses")
+        # a point on the cubic to sample it from: a finite pole (the centre-point curve passes
+        # all six, the circle-point curve P12, P13, P14)
+        pairs = [(1, 2), (1, 3), (1, 4)] + ([] if transpose else [(2, 3), (2, 4), (3, 4)])
+        finite = [self.poles[k] for k in pairs if self.poles[k] is not None]
+        if not finite:
+            raise MechanismError(
+                "the four poses differ by translations only (one angle): no centre- or "
+                "circle-point curve (a parallel-motion linkage carries such poses)"
+            )
+        base = self._norm(finite[0])
         pts = _sample_cubic(q, base, n)
         return self.poses[0, :2] + self._scale * pts
 
@@ -338,13 +345,13 @@ class Burmester:
             "sliders": [d.as_dict() for d in self.sliders()],
         }
 
-    def plot(self, ax=None, linkage=None, **kwargs):
+    def plot(self, candidate=None, ax=None, **kwargs):
         """The poses, the poles, the curves (4 poses) or the Burmester points (5 poses) and,
-        given one, a linkage drawn in its positions; see
-        :func:`mechsynth.synthesis.motion_generation.plot_motion`."""
+        given a :class:`~mechsynth.synthesis.motion_generation.Candidate`, its linkage drawn in
+        the poses; see :func:`mechsynth.synthesis.motion_generation.plot_motion`."""
         from .motion_generation import plot_motion
 
-        return plot_motion(self, candidate=linkage, ax=ax, **kwargs)
+        return plot_motion(self, candidate=candidate, ax=ax, **kwargs)
 
 
 def _q_matrices(poses, scale) -> np.ndarray:
