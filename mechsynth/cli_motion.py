@@ -130,6 +130,7 @@ def _centres(items):
 def run(args) -> int:
     import numpy as np
 
+    from . import display
     from .cli import EXIT_FAILED, _manifest
     from .errors import MechanismError
     from .jsonutil import dumps
@@ -211,9 +212,16 @@ def run(args) -> int:
     pos, ang = pose_errors(design, poses)
     data["pose_error"] = {"position_m": pos.tolist(), "angle_rad": ang.tolist()}
     data["success"] = ok
+    du = display.current()
+    lk = {k: float(v) for k, v in design.parameters.items()}
+    dims = ", ".join(
+        f"{name} {lk[key] / du.factor('m'):.6g}"
+        for name, key in (("crank", "OA"), ("coupler", "AB"), ("rocker", "DB"))
+        if key in lk
+    )
     lines.append(
-        f"chosen candidate {args.candidate}: pose errors up to {pos.max():.3g} m and "
-        f"{np.degrees(ang.max()):.3g} deg"
+        f"chosen candidate {args.candidate} ({dims} {du.unit('m')}): pose errors up to "
+        f"{pos.max() / du.factor('m'):.3g} {du.unit('m')} and {np.degrees(ang.max()):.3g} deg"
     )
     if not chosen.defect_free:
         lines.append("no defect-free linkage: choose other centre points or poses")

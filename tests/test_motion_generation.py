@@ -71,7 +71,7 @@ def _independent_roots(poses, starts=400, seed=0):
     found = []
     for _ in range(starts):
         v0 = poses[0, :2].repeat(2) + scale * rng.standard_cauchy(4).clip(-60, 60)
-        sol = root(f, v0, method="lm", options={"xtol": 1e-15, "ftol": 1e-15})
+        sol = root(f, v0, method="lm", options={"xtol": 1e-15, "ftol": 1e-15, "maxiter": 300})
         if np.max(np.abs(f(sol.x))) < 1e-11 and np.all(np.isfinite(sol.x)):
             if not any(np.allclose(sol.x, g, atol=1e-6 * (1 + np.abs(g).max())) for g in found):
                 found.append(sol.x)
