@@ -10,7 +10,8 @@ _DESCRIPTION = (
     "turns fully and the linkage stays on one assembly branch; --min-transmission bounds the "
     "transmission angle over the whole turn. --out writes path.png (targets, curve, linkage at "
     "the targets), solutions.csv, positions.csv, design.toml (for 'mechsynth animate' and "
-    "'explore'), linkage.toml (for 'chart linkage' and problem files) and result.json; "
+    "'explore'), for a four-bar linkage.toml (for 'chart linkage' and problem files), and "
+    "result.json; "
     "--animate adds path.gif. Ctrl-C stops the search and keeps the best design so far. Exit "
     "1 on bad input, 2 when no start ends on a feasible design."
 )
@@ -26,8 +27,11 @@ def add_parser(sub) -> None:
         description=_DESCRIPTION,
     )
     p.add_argument("targets", metavar="TARGETS.csv", help="the points, rows x, y (m)")
-    p.add_argument("--mechanism", choices=("four-bar",), default="four-bar",
-                   help="the mechanism (four-bar; the only one built so far)")  # fmt: skip
+    p.add_argument("--mechanism", default="four-bar", metavar="four-bar|slider-crank|FILE.toml",
+                   help="four-bar (default), slider-crank (a point on its rod), or a linkage "
+                   "file ([linkage], [ground], [[group]] tables) with a [variables] table of "
+                   "the dimensions to vary, name = [lower, upper], and optionally "
+                   "trace = 'P' (default: the linkage's output)")  # fmt: skip
     p.add_argument("--timing", choices=("free", "prescribed"), default="free",
                    help="free: crank angles are variables, in the points' order within one "
                    "turn (default); prescribed: the CSV's third column (deg)")  # fmt: skip
@@ -60,7 +64,7 @@ def _read(path, columns: int):
     from .fileio import read_text
 
     text, p = read_text(path, "targets file")
-    rows = []
+    rows, header = [], False
     for k, line in enumerate(text.splitlines(), start=1):
         line = line.strip()
         if not line or line.startswith("#"):
@@ -74,8 +78,9 @@ def _read(path, columns: int):
         try:
             rows.append([float(c) for c in cells])
         except ValueError:
-            if rows:
+            if rows or header:  # only the first line may be a header
                 raise MechanismError(f"{p}: line {k}: not {columns} numbers: {line!r}") from None
+            header = True
     if not rows:
         raise MechanismError(f"{p}: no rows of {columns} numbers")
     return np.asarray(rows, dtype=float)
@@ -153,9 +158,13 @@ def run(args) -> int:
     mu = None
     if str(args.min_transmission).strip().lower() != "none":
         mu = parse_quantity(args.min_transmission, "--min-transmission", "rad")
+    mechanism, trace, variables, tables = _mechanism(args.mechanism)
     with quiet(args.quiet or args.json):
         res = path_generation(
             targets,
+            mechanism=mechanism,
+            trace=trace,
+            variables=variables,
             timing=args.timing,
             angles=angles,
             closed=closed,
@@ -167,7 +176,7 @@ def run(args) -> int:
     data = res.as_dict()
     files = []
     if args.out and res.best is not None:
-        files = _write(res, args)
+        files = _write(res, args, tables)
     summary = res.summary()
     if res.status == "interrupted":
         summary += "\ninterrupted: the best design found so far"
@@ -180,7 +189,55 @@ def run(args) -> int:
     return code
 
 
-def _write(res, args) -> list:
+def _template_tables(sol) -> dict:
+    """The slider-crank template's tables (its dimensions come from ``[design]``)."""
+    return {
+        "linkage": {"name": "slider-crank path generator", "output": "P"},
+        "ground": {"O": [0.0, 0.0], "G": [0.0, 0.0]},
+        "group": [
+            {"type": "crank", "point": "A", "about": "O", "length": 1.0},
+            {"type": "rrp", "point": "B", "rod": ["A", 1.0],
+             "guide": {"through": "G", "angle": {"name": "guide_angle", "value": 0.0}}},
+            {"type": "attach", "point": "P", "on": ["A", "B"], "along": 0.0, "left": 0.0},
+        ],
+    }  # fmt: skip
+
+
+def _mechanism(text):
+    """``(mechanism, trace, variables, tables)`` of ``--mechanism`` (``tables``: a linkage
+    file's parsed tables, else None)."""
+    from .errors import MechanismError
+
+    if text in ("four-bar", "slider-crank"):
+        return text, None, None, None
+    if not str(text).endswith(".toml"):
+        raise MechanismError(
+            f"--mechanism must be four-bar, slider-crank or a linkage file (.toml), got {text!r}"
+        )
+    from .fileio import read_toml
+    from .synthesis.linkage_file import linkage_from_data
+    from .synthesis.problem_file import parse_quantity
+
+    data, path = read_toml(text, "linkage file")
+    data = dict(data)
+    table = data.pop("variables", None)
+    trace = data.pop("trace", None)
+    data.pop("mechanism", None)
+    if not isinstance(table, dict) or not table:
+        raise MechanismError(
+            f"{path}: give the dimensions to vary as a [variables] table, name = [lower, upper]"
+        )
+    if trace is not None and not isinstance(trace, str):
+        raise MechanismError(f"{path}: trace must be a point name, got {trace!r}")
+    variables = {}
+    for k, b in table.items():
+        if not isinstance(b, list) or len(b) != 2:
+            raise MechanismError(f"{path}: [variables] {k}: expected [lower, upper], got {b!r}")
+        variables[k] = tuple(parse_quantity(v, f"[variables] {k}") for v in b)
+    return linkage_from_data(data, str(path)), trace, variables, data
+
+
+def _write(res, args, tables=None) -> list:
     from pathlib import Path
 
     import numpy as np
@@ -193,28 +250,44 @@ def _write(res, args) -> list:
     with display.display_units(args.units):
         fig = res.figure()
         files.append(plotting.save(fig, Path(out) / "path.png"))
-    header = ["rank", *("crank coupler rocker ground u v x0 y0".split()), "angle [rad]",
-              "branch", "error [m^2]", "sum of squares [m^2]", "largest distance [m]",
-              "transmission min [deg]", "transmission max [deg]", "note"]  # fmt: skip
+    tail = ["error [m^2]", "sum of squares [m^2]", "largest distance [m]",
+            "transmission min [deg]", "transmission max [deg]", "note"]  # fmt: skip
+    four_bar = res.best.fourbar is not None
+    if four_bar:
+        names = "crank coupler rocker ground u v x0 y0 angle branch".split()
+    else:
+        names = list(res.best.values)
+    header = ["rank", *names, *tail]
     rows = [
-        [k, s.crank, s.coupler, s.rocker, s.ground, s.u, s.v, s.x0, s.y0, s.angle, s.branch,
+        [k, *(getattr(s, n) if four_bar else s.values[n] for n in names),
          s.error, s.sum_squares, s.max_distance, *np.rad2deg(s.transmission), s.note]
         for k, s in enumerate(res.solutions, start=1)
     ]  # fmt: skip
     files.append(write_csv(Path(out) / "solutions.csv", header, rows))
     pos = res.positions
+    moving = [k for k in pos if np.ptp(pos[k], axis=0).max() > 0]
     header = ["target", "x [m]", "y [m]", "crank angle [deg]"]
-    for name in ("A", "B", "P"):
+    for name in moving:
         header += [f"{name} x [m]", f"{name} y [m]"]
     rows = []
     for i, (x, y) in enumerate(res.targets):
         row = [i + 1, x, y, float(np.rad2deg(res.angles[i]))]
-        for name in ("A", "B", "P"):
+        for name in moving:
             row += [float(pos[name][i, 0]), float(pos[name][i, 1])]
         rows.append(row)
     files.append(write_csv(Path(out) / "positions.csv", header, rows))
-    files.append(write_text(Path(out) / "design.toml", design_toml(res.best)))
-    files.append(write_text(Path(out) / "linkage.toml", linkage_toml(res.best)))
+    if four_bar:
+        files.append(write_text(Path(out) / "design.toml", design_toml(res.best)))
+        files.append(write_text(Path(out) / "linkage.toml", linkage_toml(res.best)))
+    else:
+        from .explore.model import to_toml
+
+        data = {"mechanism": "linkage", "trace": [res.best.trace_point]}
+        data.update(tables if tables is not None else {})
+        if tables is None:  # the slider-crank template: its tables from its dimensions
+            data.update(_template_tables(res.best))
+        data["design"] = {k: float(v) for k, v in res.best.values.items()}
+        files.append(write_text(Path(out) / "design.toml", to_toml(data)))
     from .jsonutil import dumps
 
     files.append(write_text(Path(out) / "result.json", dumps(res.as_dict())))

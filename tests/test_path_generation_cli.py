@@ -84,3 +84,87 @@ def test_missing_file_and_help(tmp_path, capsys):
         main(["synthesize", "path", "--help"])
     assert exc.value.code == 0
     assert "--min-transmission" in capsys.readouterr().out
+
+
+SIX_TOML = """
+trace = "P"
+[linkage]
+name = "six-bar"
+output = "P"
+[ground]
+O = [0, 0]
+D = [1.0, 0.1]
+E = [0.2, 1.2]
+[[group]]
+type = "crank"
+point = "A"
+about = "O"
+length = 0.25
+[[group]]
+type = "rrr"
+point = "B"
+first = ["A", 0.9]
+second = ["D", 0.7]
+[[group]]
+type = "attach"
+point = "C"
+on = ["A", "B"]
+along = 0.4
+left = 0.3
+[[group]]
+type = "rrr"
+point = "F"
+first = ["C", 0.85]
+second = ["E", 0.65]
+[[group]]
+type = "attach"
+point = "P"
+on = ["C", "F"]
+along = "450 mm"
+left = -0.15
+[variables]
+CF = [0.5, 1.1]
+EF = [0.4, 1.0]
+P_along = [0, 1]
+P_left = [-0.5, 0.5]
+E_x = ["-200 mm", 0.6]
+"""
+
+
+def test_linkage_file_mechanism(tmp_path, capsys):
+    from mechsynth.synthesis.design_file import load_design
+
+    toml = tmp_path / "six.toml"
+    toml.write_text(SIX_TOML)
+    import mechsynth as ms
+
+    true = (
+        ms.Linkage(ground={"O": (0, 0), "D": (1.0, 0.1), "E": (0.2, 1.2)})
+        .crank("A", about="O", length=0.25)
+        .rrr("B", ("A", 0.9), ("D", 0.7))
+        .attach("C", on=("A", "B"), along=0.4, left=0.3)
+        .rrr("F", ("C", 0.8), ("E", 0.7))
+        .attach("P", on=("C", "F"), along=0.5, left=-0.2)
+    )
+    phi = np.array([0.2, 0.9, 1.6, 2.4, 3.1, 3.9, 4.6, 5.3, 5.9])
+    m = true.motion(phi)
+    f = _csv(tmp_path / "t.csv", np.column_stack([m.points["P"].x, m.points["P"].y]))
+    out = tmp_path / "out"
+    code = main(["synthesize", "path", str(f), "--mechanism", str(toml), "--starts", "6",
+                 "--out", str(out), "--json"])  # fmt: skip
+    assert code == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["best"]["sum_squares"] < 1e-26 and data["best"]["CF"] == pytest.approx(0.8)
+    design = load_design(out / "design.toml").design
+    assert design.parameters["EF"] == pytest.approx(0.7)
+    assert not (out / "linkage.toml").exists()
+
+
+def test_linkage_file_without_variables(tmp_path, capsys):
+    toml = tmp_path / "six.toml"
+    toml.write_text(SIX_TOML.split("[variables]")[0])
+    f = _csv(tmp_path / "t.csv", [(0, 0), (1, 0), (1, 1)])
+    assert main(["synthesize", "path", str(f), "--mechanism", str(toml)]) == 1
+    assert "[variables]" in capsys.readouterr().err
+    assert main(["synthesize", "path", str(f), "--mechanism", "cam"]) == 1
+    assert "--mechanism must be" in capsys.readouterr().err

@@ -107,7 +107,7 @@ def _read_csv(path) -> np.ndarray:
     from ..fileio import read_text
 
     text, p = read_text(path, "targets file")
-    rows = []
+    rows, header = [], False
     for k, line in enumerate(text.splitlines(), start=1):
         line = line.strip()
         if not line or line.startswith("#"):
@@ -120,8 +120,9 @@ def _read_csv(path) -> np.ndarray:
         try:
             rows.append((float(cells[0]), float(cells[1])))
         except ValueError:
-            if rows:  # only the first row may be a header
+            if rows or header:  # only the first line may be a header
                 raise MechanismError(f"{p}: line {k}: not two numbers: {line!r}") from None
+            header = True
     if not rows:
         raise MechanismError(f"{p}: no target rows (x, y)")
     return np.asarray(rows, dtype=float)
