@@ -186,7 +186,7 @@ def run(args) -> int:
     if n == 5:
         lines.append(f"Burmester points: {len(mg.burmester.points)} real")
     for i, c in enumerate(mg.candidates[:10], start=1):
-        mu = "-" if np.isnan(c.min_transmission) else f"{np.degrees(c.min_transmission):.2f} deg"
+        mu = f"{np.degrees(c.min_transmission):.2f} deg"
         lines.append(
             f"  {i:2d}. {c.kind:12s} {c.grashof:15s} min transmission {mu:>10s}  defects: "
             f"{', '.join(c.defects) or 'none'}"

@@ -274,7 +274,7 @@ def test_branch_defect_when_poses_lie_on_both_assembly_branches():
 
 def test_grashof_defect_and_ranking():
     mg = ms.motion_generation(POSES5)
-    keys = [(len(c.defects), -np.nan_to_num(c.min_transmission)) for c in mg.candidates]
+    keys = [(len(c.defects), -c.min_transmission) for c in mg.candidates]
     assert keys == sorted(keys)
     assert mg.best.defect_free
     rockers = [c for c in mg.candidates if c.grashof in ("triple-rocker", "double-rocker")]
@@ -403,3 +403,40 @@ def test_burmester_plot_draws_a_candidate():
     fig = mg.burmester.plot(mg.best)
     assert "defects: none" in fig.axes[0].get_title()
     plt.close(fig)
+
+
+FUZZ = [pytest.param(20, id="quick"), pytest.param(300, id="full", marks=pytest.mark.slow)]
+
+
+@pytest.mark.parametrize("n", FUZZ)
+def test_hostile_poses_succeed_finitely_or_refuse(n):
+    from hypothesis import HealthCheck, given, settings
+    from hypothesis import strategies as st
+
+    value = st.one_of(
+        st.floats(allow_nan=True, allow_infinity=True, width=64),
+        st.floats(-10.0, 10.0),
+        st.sampled_from([0.0, 1e-300, 1e300, -1e16, 1e-9, 2 * np.pi, np.pi]),
+    )
+    rows = st.lists(st.lists(value, min_size=3, max_size=3), min_size=0, max_size=6)
+
+    @settings(max_examples=n, deadline=None, database=None, derandomize=True,
+              suppress_health_check=list(HealthCheck))  # fmt: skip
+    @given(rows)
+    def prop(poses):
+        try:
+            bm = ms.burmester(poses)
+            for d in bm.points:
+                assert np.all(np.isfinite(d.circle)) and np.isfinite(d.residual)
+            if bm.n == 4:
+                for d in bm.sliders():
+                    assert np.all(np.isfinite(d.circle))
+            if bm.n >= 4:
+                mg = ms.motion_generation(poses, samples=4)
+                for c in mg.candidates:
+                    assert np.isfinite(c.min_transmission)
+                    assert np.all(np.isfinite(c.crank_angles))
+        except ms.MechanismError:
+            pass
+
+    prop()

@@ -47,6 +47,8 @@ __all__ = ["Burmester", "Dyad", "burmester", "as_poses", "displace"]
 
 #: Burmester theory's limits: 2 poses at least, 5 at most (exact synthesis)
 MIN_POSES, MAX_POSES = 2, 5
+#: the largest pose angle accepted (rad): beyond it a difference of angles loses its digits
+MAX_POSE_ANGLE = 1e6
 
 
 def as_poses(poses, name: str = "poses", max_poses: int | None = MAX_POSES) -> np.ndarray:
@@ -59,6 +61,19 @@ def as_poses(poses, name: str = "poses", max_poses: int | None = MAX_POSES) -> n
             f"{name} must be rows of (x, y, angle), an (n, 3) array; got shape {arr.shape}"
         )
     n = arr.shape[0]
+    big = np.abs(arr[:, :2]) > validate.MAX_LENGTH
+    if big.any():
+        i, k = np.argwhere(big)[0]
+        raise MechanismError(
+            f"{name}: pose {i + 1}'s {'xy'[k]} ({arr[i, k]:.6g} m) beyond "
+            f"{validate.MAX_LENGTH:.0e} m"
+        )
+    if np.any(np.abs(arr[:, 2]) > MAX_POSE_ANGLE):
+        i = int(np.argmax(np.abs(arr[:, 2])))
+        raise MechanismError(
+            f"{name}: pose {i + 1}'s angle ({arr[i, 2]:.6g} rad) beyond {MAX_POSE_ANGLE:.0e} "
+            "rad (give angles within a few turns)"
+        )
     if n < MIN_POSES or (max_poses is not None and n > max_poses):
         top = f" and at most {max_poses}" if max_poses is not None else ""
         raise MechanismError(

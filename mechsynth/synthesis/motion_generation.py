@@ -75,7 +75,8 @@ class Candidate:
         ``"full-turn crank"`` or ``"rocking crank"``.
     defects : the defects found (module notes); empty for a usable linkage.
     min_transmission : the smallest transmission angle (rad, folded to [0, pi/2]) over the
-        motion from the first to the last pose; NaN where that motion is impossible.
+        motion from the first to the last pose; 0 where the crank meets a limit position (a toggle)
+        on the way.
     mechanism : the design as :class:`~mechsynth.FourBar` / :class:`~mechsynth.SliderCrank` in
         the standard frame, or None when its crank does not turn fully.
     origin, rotation : the standard frame: ``standard = R(-rotation) (user - origin)``.
@@ -170,7 +171,7 @@ def _linkage(kind, crank: Dyad, driven: Dyad, poses, branch):
 
     za, zb = np.asarray(crank.circle), np.asarray(driven.circle)
     ab = float(np.hypot(*(zb - za)))
-    if ab <= 1e-12 * max(1.0, float(np.abs(za).max())):
+    if ab <= 1e-12 * max(float(np.abs(np.concatenate([za, zb])).max()), 1e-300):
         raise MechanismError("the two dyads share their moving pivot: no coupler between them")
     e = (zb - za) / ab
     en = np.array([-e[1], e[0]])
@@ -249,7 +250,7 @@ def pair(poses, crank: Dyad, driven: Dyad) -> Candidate:
     sweep = phi[0] + direction * np.linspace(0.0, span[-1], SPAN_SAMPLES)
     margins = lk.assembly_margins(sweep)
     cond = np.min(np.stack([np.asarray(v, float) for v in margins.values()]), axis=0)
-    mu_min = float("nan")
+    mu_min = 0.0  # a limit position is a toggle: transmission angle 0
     if np.any(cond <= 0.0):
         defects.append("limit")
     else:
@@ -463,7 +464,7 @@ def motion_generation(poses, centres=None, dyads=None, samples: int = 12) -> Mot
             "linkage needs two, one of them a crank"
             + (" -- these 5 poses have no real Burmester points" if n == 5 and not ds else "")
         )
-    cands = []
+    cands, errors = [], []
     for i, a in enumerate(ds):
         if a.kind != "RR":
             continue
@@ -472,12 +473,17 @@ def motion_generation(poses, centres=None, dyads=None, samples: int = 12) -> Mot
                 continue
             try:
                 cands.append(pair(bm.poses, a, b))
-            except MechanismError:
-                continue
+            except MechanismError as exc:  # e.g. a length the linkage refuses
+                errors.append(str(exc))
+    if not cands:
+        raise MechanismError(
+            f"no pairing of the {len(ds)} dyads gives a linkage"
+            + (f": {errors[0]}" if errors else "")
+        )
     mu = [c.min_transmission for c in cands]
     order = sorted(
         range(len(cands)),
-        key=lambda k: (len(cands[k].defects), -(0.0 if np.isnan(mu[k]) else mu[k])),
+        key=lambda k: (len(cands[k].defects), -mu[k]),
     )
     return MotionGeneration(bm, tuple(ds), tuple(cands[k] for k in order))
 
