@@ -6,8 +6,6 @@ slider-cranks, ranks them, and writes the figure, the candidates and the chosen 
 
 from __future__ import annotations
 
-import argparse
-
 #: CSV columns: name -> (SI unit, default unit when the header gives none)
 _COLUMNS = {"x": ("m", "m"), "y": ("m", "m"), "angle": ("rad", None)}
 
@@ -21,13 +19,13 @@ def add_parser(sub) -> None:
         help="four-bars and slider-cranks that carry a coupler through 2-5 poses (Burmester)",
         description="Motion generation: read poses from POSES.csv (a header with the columns x, "
         "y, angle, each optionally with a unit: 'x [mm]', 'angle [deg]' or 'angle_deg'; x and y "
-        "default to m, the angle needs its unit), find the Burmester dyads (5 poses: all "
+        "default to m, the angle needs its unit; lines starting with # are comments), find the "
+        "Burmester dyads (5 poses: all "
         "Burmester points; 4 poses: centre points along the centre-point curve; 3 poses: give "
         "--centres), pair them into linkages, check each for branch, order, limit and Grashof "
         "defects and rank them by the minimum transmission angle. --out writes motion.png, "
         "candidates.csv, linkage.toml (a linkage file for problem files) and design.toml (for "
         "'mechsynth animate'). Exits 2 when no defect-free linkage is found or --optimize fails.",
-        formatter_class=argparse.ArgumentDefaultsHelpFormatter,
     )
     p.add_argument("poses", help="CSV file of poses: x, y, angle columns, one pose per row")
     p.add_argument(
@@ -41,10 +39,13 @@ def add_parser(sub) -> None:
         "--samples",
         type=int,
         default=12,
-        help="4 poses without --centres: centre points taken along the curve",
+        help="4 poses without --centres: centre points taken along the curve (default 12)",
     )
     p.add_argument(
-        "--candidate", type=int, default=1, help="the ranked candidate to draw and write (1 = best)"
+        "--candidate",
+        type=int,
+        default=1,
+        help="the ranked candidate to draw and write (default 1, the best)",
     )
     p.add_argument(
         "--optimize",
@@ -53,8 +54,15 @@ def add_parser(sub) -> None:
         "pose error <= --tol (up to 5 poses), or minimize the pose error over all poses (more "
         "than 5: the exact synthesis takes the first 5)",
     )
-    p.add_argument("--tol", type=float, default=1e-3, help="pose error allowed with --optimize, m")
-    p.add_argument("--starts", type=int, default=2, help="multi-start count with --optimize")
+    p.add_argument(
+        "--tol",
+        type=float,
+        default=1e-3,
+        help="pose error allowed with --optimize, m (default 0.001)",
+    )
+    p.add_argument(
+        "--starts", type=int, default=2, help="multi-start count with --optimize (default 2)"
+    )
     _add_output_options(p)
     p.set_defaults(func=run)
 
@@ -63,7 +71,6 @@ def read_poses(path):
     """Poses ``(n, 3)`` (SI) from a CSV file with the columns x, y, angle (see the command's
     help); every error names the file, the row or the column."""
     import csv
-    import io
     import re
 
     import numpy as np
@@ -73,7 +80,8 @@ def read_poses(path):
     from .synthesis.problem_file import parse_quantity
 
     text, path = read_text(path, "poses file")
-    rows = [r for r in csv.reader(io.StringIO(text)) if any(c.strip() for c in r)]
+    lines = [ln for ln in text.splitlines() if not ln.lstrip().startswith("#")]  # comments
+    rows = [r for r in csv.reader(lines) if any(c.strip() for c in r)]
     if not rows:
         raise MechanismError(f"{path}: empty; expected a header x, y, angle and one pose a row")
     factors, names = [], []

@@ -138,3 +138,16 @@ def test_help_lists_the_options(capsys):
     text = capsys.readouterr().out
     for opt in ("--out", "--json", "--centres", "--optimize", "--candidate"):
         assert opt in text
+
+
+def test_example_poses_file_gives_back_its_crank_rocker(capsys):
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "examples" / "motion_poses.csv"
+    assert main(["synthesize", "motion", str(path), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    # the crank-rocker the file's comment names (its poses written to 1e-6 mm and deg)
+    lengths = [
+        sorted(c["parameters"][k] for k in ("OA", "AB", "DB")) for c in data["candidates"]
+    ]
+    assert any(np.allclose(v, [0.12, 0.30, 0.35], atol=1e-7) for v in lengths)
