@@ -149,6 +149,10 @@ def test_trade_off_front_is_monotone_and_respects_its_limits(maps):
     # the low-reaction end is the slider-mass optimum of the train (68.4 kg, 27.9 kN)
     assert front[0]["m3"] == pytest.approx(68.37, abs=0.05)
     assert front[0]["reaction"] == pytest.approx(27933, rel=2e-3)
+    # the blow goes into the bearings or into the frame: their peaks add up to the blow's
+    # 52.35 kN (plus the weights) all along the front
+    for r in front:
+        assert 52.3e3 < r["shaking"] + r["reaction"] < 52.8e3
 
 
 def test_nail_cases_scale_the_blow_with_d_squared():

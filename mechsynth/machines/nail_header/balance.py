@@ -190,7 +190,8 @@ def balance_front(maps: BalanceMaps, n: int = 7, mass_bounds=(1.0, 200.0), joint
     """Trade-off between the peak shaking force and the peak reaction at ``joints``, with the
     slider mass and the counterweight free: the epsilon-constraint on the reaction from its own
     minimum to its value at the shaking optimum (``n`` SOCPs). Returns a list of dicts
-    (``reaction_limit``, ``shaking``, ``reaction``, ``m3``, ``Cx``, ``Cy``, ``status``)."""
+    (``reaction_limit``, ``shaking``, ``reaction``, ``m3``, ``Cx``, ``Cy``, ``status``, and the
+    anchors' solver statuses ``anchor_status``)."""
     import cvxpy as cp
 
     A, b = _stack(maps, joints)
@@ -204,13 +205,20 @@ def balance_front(maps: BalanceMaps, n: int = 7, mass_bounds=(1.0, 200.0), joint
         names=["m3", "Cx", "Cy"],
     )
     s_min = balance_counterweight(maps, mass_bounds, joints=joints)
-    if not (r_min.success and s_min.success):
+    if r_min.x is None or s_min.x is None:
         raise MechanismError(f"balance_front: anchors failed ({r_min.status}, {s_min.status})")
+    # an anchor the solver calls inaccurate still gives a feasible design: its peak (recomputed)
+    # bounds the front's end from above, which is all the epsilon grid needs
+    lo = peak_reaction(maps, r_min.x, joints)
     hi = peak_reaction(maps, s_min.x, joints)
     rows = []
-    for eps in np.linspace(r_min.value * (1 + 1e-6), hi, n):
+    for eps in np.linspace(lo * (1 + 1e-6), hi, n):
         res = balance_counterweight(maps, mass_bounds, reaction_limit=eps, joints=joints)
-        row = {"reaction_limit": float(eps), "status": res.status}
+        row = {
+            "reaction_limit": float(eps),
+            "status": res.status,
+            "anchor_status": [r_min.status, s_min.status],
+        }
         if res.x is not None:
             row.update(
                 shaking=float(res.value),

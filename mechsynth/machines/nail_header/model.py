@@ -58,10 +58,14 @@ class NailHeader(Mechanism):
     ``mu``, ``d`` and ``l_blank`` (mm). Ejector spring: ``m_n0`` (N m), ``c2`` (N m/rad).
     ``g`` gravity (m/s^2). ``counterweight`` (kg m): an extra crank counterweight moment
     ``m_cw r_cw`` opposite A, carried as ``counterweight / cw_radius`` kg at ``cw_radius``.
-    ``spring_sense=-1`` (default): the spring
-    moment ``M_n0 + c2 (phi5 - phi50)`` grows as the ejector turns away from its outer-dead-centre
-    angle and acts clockwise against it; ``+1`` is the paper's literal ``beta5 = phi50 - phi5``
-    acting counter-clockwise (which makes the twist negative over the whole cycle).
+    Ejector spring ``M_n = M_n0 + c2 beta5``: with ``spring_zero="paper"`` and ``spring_sense=1``
+    (the defaults) it is the paper's law as printed, ``beta5 = phi50 - phi5`` with the paper's
+    ``phi50`` formula (:attr:`phi50_paper`: the ejector angle at the *inner* dead centre), acting
+    counter-clockwise; the twist runs from 0 to 38.5 deg and the slot contact stays closed. This
+    reproduces Table 1, the ejector reactions included (R43 = 69 N, R50 = 38 N at phi = pi).
+    ``spring_zero="outer"`` measures the twist from the outer dead centre (:attr:`phi50`, the
+    reading of the paper used before), with ``spring_sense=-1`` the spring acting clockwise as the
+    ejector turns away from it (the maxima then lie ~15 N below the print).
     """
 
     l_oa: float = 0.07
@@ -94,7 +98,8 @@ class NailHeader(Mechanism):
     g: float = G
     counterweight: float = 0.0
     cw_radius: float = 0.1
-    spring_sense: int = -1
+    spring_sense: int = 1
+    spring_zero: str = "paper"
 
     parameters: ClassVar[tuple[str, ...]] = ("l_oa", "l_ab", "m3", "counterweight")
     default_output: ClassVar[str] = "slider"
@@ -112,6 +117,10 @@ class NailHeader(Mechanism):
             object.__setattr__(self, name, _mass(name, getattr(self, name)))
         for name in ("m_n0", "c2", "g", "counterweight", "n1"):
             object.__setattr__(self, name, _mass(name, getattr(self, name)))
+        if self.spring_zero not in ("paper", "outer"):
+            raise MechanismError(
+                f"spring_zero must be 'paper' or 'outer', got {self.spring_zero!r}"
+            )
 
     @property
     def omega(self) -> float:
@@ -130,9 +139,20 @@ class NailHeader(Mechanism):
 
     @property
     def phi50(self):
-        """Ejector angle (rad) at the outer dead centre (paper's phi_50)."""
+        """Ejector angle (rad) at the outer dead centre (``spring_zero="outer"``)."""
         _, _, _, _, _, _, th5, _ = self.jets(np.array([0.0]))
         return float(th5.value[0])
+
+    @property
+    def phi50_paper(self):
+        """Paper 003's phi_50 as printed (rad): ``pi/2 - arctg((l_AB - l_OA + x_BC - x_E) /
+        (y_C - y_E)) - arcsin(l_DE / sqrt((l_AB - l_OA + x_BC - x_E)^2 + (y_C - y_E)^2))``, the
+        ejector angle at the inner dead centre (``x_B = l_AB - l_OA``)."""
+        x = self.l_ab - self.l_oa + self.x_bc - self.x_e
+        y = self.y_c - self.y_e
+        # arctg as printed (arctan(t) = arctan2(t, 1)), in ops so CasADi lengths work too
+        value = np.pi / 2 - ops.arctan2(x / y, 1.0) - ops.arcsin(self.l_de / ops.hypot(x, y))
+        return value if ops.is_symbolic(value) else float(value)
 
     def motion(self, phi, speed=None, epsilon=0.0) -> Motion:
         """Motion over crank angles ``phi`` (rad, ccw from +x); ``speed`` (rad/s) defaults to
@@ -220,9 +240,10 @@ class NailHeader(Mechanism):
         return ops.where(vx >= -1e-9 * scale, f, 0.0 * f)
 
     def spring(self) -> TorsionSpring:
-        """Ejector spring ``M_n = M_n0 + c2 beta5`` (see ``spring_sense``)."""
+        """Ejector spring ``M_n = M_n0 + c2 beta5`` (see ``spring_zero``, ``spring_sense``)."""
+        zero = self.phi50_paper if self.spring_zero == "paper" else self.phi50
         return TorsionSpring(
-            "ejector", "ejector", self.m_n0, self.c2, self.phi50, sense=self.spring_sense
+            "ejector", "ejector", self.m_n0, self.c2, zero, sense=self.spring_sense
         )
 
     def force_model(self, gravity=True) -> ForceModel:
