@@ -65,6 +65,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import MechanismError
 from ..fileio import output_dir, save_figure
 from ..kinematics.curves import Circle, Involute
 from ..kinematics.linkage import Linkage, Param
@@ -94,7 +95,7 @@ _PROFILE_KEYS = {
 }
 
 
-class LinkageFileError(ValueError):
+class LinkageFileError(MechanismError):
     """A linkage table that does not follow the format (the message names table and key)."""
 
 
@@ -125,7 +126,7 @@ def _pair(value, where):
 
 
 def _branch(value, where):
-    if value not in (1, -1):
+    if type(value) is not int or value not in (1, -1):  # not 1.0, true or a list
         raise LinkageFileError(f"{where}: expected 1 or -1, got {value!r}")
     return value
 

@@ -220,10 +220,11 @@ class SpatialPumpingUnit(Mechanism):
             object.__setattr__(self, name, check_finite(name, getattr(self, name)))
         values = {k: getattr(self, k) for k in self.parameters}
         for name, v in values.items():  # a batch of designs is a column (its angles the rows)
-            if np.ndim(v) == 1 and np.size(v) > 1:
+            if np.ndim(v) >= 1 and np.shape(v)[-1] != 1:
                 raise MechanismError(
-                    f"{name} has shape {np.shape(v)}: a batch of designs is a column, e.g. "
-                    f"np.asarray({name})[:, None] of shape ({np.size(v)}, 1)"
+                    f"{name} has shape {np.shape(v)}: a batch of designs has a trailing axis of "
+                    f"length 1 (the angles' axis), e.g. np.ravel({name})[:, None] of shape "
+                    f"({np.size(v)}, 1)"
                 )
         validate.broadcast(**values)
         object.__setattr__(self, "unit_class", _unit_class(self.unit_class))
