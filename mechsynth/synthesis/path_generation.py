@@ -507,6 +507,7 @@ def _solution(z, sigma, n, timing, given, centre, scale, targets, objective, not
     vals["y0"] = float(centre[1] + scale * vals["y0"])
     vals["angle"] = float(vals["angle"])
     phi = np.asarray(z[k : k + n] if timing == "free" else z[k] + given, dtype=float)
+    phi = phi - 2.0 * np.pi * np.floor(phi[0] / (2.0 * np.pi))  # the first in [0, 2 pi)
     return evaluated(vals, "open" if sigma > 0 else "crossed", phi, targets, objective, note)
 
 

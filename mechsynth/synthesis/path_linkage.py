@@ -296,6 +296,7 @@ def _solution(linkage, names, trace, z, n, timing, given, targets, objective):
     k = len(names)
     values = {nm: float(z[i]) for i, nm in enumerate(names)}
     phi = np.asarray(z[k : k + n] if timing == "free" else z[k] + given, dtype=float)
+    phi = phi - 2.0 * np.pi * np.floor(phi[0] / (2.0 * np.pi))  # the first in [0, 2 pi)
     try:
         lk = linkage(**values)
         q = lk.motion(phi).points[trace]
