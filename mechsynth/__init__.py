@@ -40,6 +40,11 @@ _LAZY = {
     "six_link": "machines.impact",
     "Problem": "synthesis",
     "Result": "synthesis",
+    "function_generation": "synthesis.function_generation",
+    "burmester": "synthesis.motion_generation",
+    "motion_generation": "synthesis.motion_generation",
+    "path_generation": "synthesis.path_generation",
+    "nomogram": "nomograms",
 }
 _SUBPACKAGES = (
     "display",
@@ -49,6 +54,7 @@ _SUBPACKAGES = (
     "objectives",
     "synthesis",
     "machines",
+    "nomograms",
     "studies",
 )
 
@@ -82,6 +88,11 @@ __all__ = [
     "objectives",
     "Problem",
     "Result",
+    "function_generation",
+    "burmester",
+    "motion_generation",
+    "path_generation",
+    "nomogram",
     "MechanismError",
     "SolverError",
     "SliderCrank",

@@ -1,5 +1,5 @@
 """The layers depend only leftwards: kinematics <- dynamics <- objectives <- synthesis <- machines
-<- studies <- explore <- cli (docs/architecture.md). Checked on the source, including imports
+<- nomograms <- studies <- explore <- cli (docs/architecture.md). Checked on the source, including imports
 inside functions."""
 
 import ast
@@ -8,7 +8,9 @@ from pathlib import Path
 import pytest
 
 PACKAGE = Path(__file__).resolve().parents[1] / "mechsynth"
-ORDER = ["kinematics", "dynamics", "objectives", "synthesis", "machines", "studies", "explore"]
+ORDER = [
+    "kinematics", "dynamics", "objectives", "synthesis", "machines", "nomograms", "studies", "explore"
+]
 
 
 def _imported_layers(path: Path):
