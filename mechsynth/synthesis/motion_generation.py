@@ -65,8 +65,8 @@ class Candidate:
     linkage : the design as a :class:`~mechsynth.kinematics.Linkage` in the poses' frame:
         ground points ``O`` (crank pivot) and ``D`` (rocker pivot; a slider-crank has its guide
         through the slider's first position), points ``A``, ``B``, the pose point ``P`` and
-        ``Q`` (1 m along the pose frame's x axis); its input is the absolute crank angle
-        (``phase`` 0).
+        ``Q`` (on the pose frame's x axis, a quarter of the coupler from P); its input is the
+        absolute crank angle (``phase`` 0).
     crank_angles : the crank angle (rad, from +x) at each pose, unwrapped in the direction of
         rotation from the first pose.
     direction : +1 (counter-clockwise) or -1: the crank's turning direction through the poses.
@@ -176,7 +176,7 @@ def _linkage(kind, crank: Dyad, driven: Dyad, poses, branch):
     e = (zb - za) / ab
     en = np.array([-e[1], e[0]])
     p1 = poses[0, :2]
-    q1 = p1 + np.array([np.cos(poses[0, 2]), np.sin(poses[0, 2])])
+    q1 = p1 + 0.25 * ab * np.array([np.cos(poses[0, 2]), np.sin(poses[0, 2])])
     pa = (float((p1 - za) @ e), float((p1 - za) @ en))
     qa = (float((q1 - za) @ e), float((q1 - za) @ en))
     ground = {"O": crank.centre}
