@@ -77,3 +77,28 @@ def test_desaxial_pressure_angle_loads_the_pitman_more(setup):
             row["upstroke_max_pressure_angle_deg"], abs=0.3
         )
         assert row["closed_form_deviation"] < 1e-6
+
+
+def test_position_functions_in_the_base_frame_15_and_polished_rod_16(setup):
+    # Paper 000, (6)-(7) in the frame along O1O2, turned into the base frame by (15) with alpha1
+    # the direction of O1O2, give the unit's pitman and beam angles; (16): V_K = omega3 l_O2K.
+    from mechsynth.kinematics.four_bar_formulas import position_functions
+
+    units, _ = setup
+    for u in units.values():
+        m = u.motion(THETA, speed=spm(6))
+        alpha1 = np.arctan2(u.pivot_y, u.pivot_x)
+        d = np.hypot(u.pivot_x, u.pivot_y)
+        phi1 = np.asarray(m.links["crank"].angle) - alpha1
+        best = []
+        for branch in ("open", "crossed"):
+            p2, p3 = position_functions(phi1, u.crank, u.pitman, u.rear_arm, d, branch)
+            dev2 = np.angle(np.exp(1j * (p2 + alpha1 - m.links["pitman"].angle)))
+            dev3 = np.angle(np.exp(1j * (p3 + alpha1 - m.links["rear_arm"].angle)))
+            best.append(max(np.max(np.abs(dev2)), np.max(np.abs(dev3))))
+        assert min(best) < 1e-10
+        np.testing.assert_allclose(
+            np.abs(m.polished_rod.velocity),
+            u.front_arm * np.abs(m.links["rear_arm"].omega),
+            atol=1e-12,
+        )

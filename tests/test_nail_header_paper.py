@@ -1,4 +1,4 @@
-"""Paper 003 (first part) as printed: the kinematic formulas (1.1)-(1.5), the spring law with
+"""Paper 003 (first part) as printed: the kinematic formulas (1.1)-(1.6), the spring law with
 the printed phi50, and Table 1 with its ejector reactions (N, at the printed angles)."""
 
 import numpy as np
@@ -11,8 +11,8 @@ from mechsynth.units import cycle
 PHI = -cycle(1440)  # clockwise from the outer dead centre
 
 
-def test_printed_kinematics_1_1_to_1_5():
-    # (1.1)-(1.5) of paper 003: analogs with respect to the crank angle phi1 (here phi, ccw)
+def test_printed_kinematics_1_1_to_1_6():
+    # (1.1)-(1.6) of paper 003: analogs with respect to the crank angle phi1 (here phi, ccw)
     nh = NailHeader()
     phi = np.linspace(0.01, 2 * np.pi - 0.01, 181)
     m = nh.motion(phi)
@@ -46,6 +46,30 @@ def test_printed_kinematics_1_1_to_1_5():
     np.testing.assert_allclose(ej.angle, p5, atol=1e-12)
     np.testing.assert_allclose(ej.omega, dp5, atol=1e-12)
     np.testing.assert_allclose(ej.epsilon, ddp5, atol=1e-11)
+    # (1.3), (1.5): the centres of mass of the rod and the ejector
+    from mechsynth.dynamics.inertia import com_track
+
+    bodies = nh.force_model().bodies
+    s2, s5 = com_track(m, bodies["rod"]), com_track(m, bodies["ejector"])
+    np.testing.assert_allclose(s2.x, xa + nh.l_as2 * np.cos(p2), atol=1e-14)
+    np.testing.assert_allclose(s2.y, ya + nh.l_as2 * np.sin(p2), atol=1e-14)
+    np.testing.assert_allclose(
+        s2.ax, ddxa - nh.l_as2 * ddp2 * np.sin(p2) - nh.l_as2 * dp2**2 * np.cos(p2), atol=1e-13
+    )
+    np.testing.assert_allclose(
+        s2.ay, ddya + nh.l_as2 * ddp2 * np.cos(p2) - nh.l_as2 * dp2**2 * np.sin(p2), atol=1e-13
+    )
+    np.testing.assert_allclose(s5.x, nh.x_e + nh.l_es5 * np.cos(p5), atol=1e-14)
+    np.testing.assert_allclose(
+        s5.ay, nh.l_es5 * ddp5 * np.cos(p5) - nh.l_es5 * dp5**2 * np.sin(p5), atol=1e-12
+    )
+    # (1.6): with the crank speed omega1, eps = phi'' omega1^2, a_B = x_B'' omega1^2
+    mt = nh.motion(phi, speed=nh.omega)
+    np.testing.assert_allclose(mt.links["rod"].epsilon, ddp2 * nh.omega**2, rtol=1e-12,
+                               atol=1e-9)
+    np.testing.assert_allclose(mt.links["ejector"].epsilon, ddp5 * nh.omega**2, rtol=1e-11,
+                               atol=1e-9)
+    np.testing.assert_allclose(mt.points["B"].ax, ddxb * nh.omega**2, rtol=1e-12, atol=1e-9)
     # D = E + l_DE (cos, sin)(phi5 + pi/2)
     np.testing.assert_allclose(m.points["D"].x, nh.x_e + nh.l_de * np.cos(p5 + np.pi / 2),
                                atol=1e-14)

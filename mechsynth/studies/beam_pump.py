@@ -480,7 +480,7 @@ def _run(out, n_angles, pareto_points, starts, stages):
         f"; differential evolution cross-check: {de.status}, "
         f"{de.value:.6f} m/s^2 (IPOPT {best.value:.6f})"
     )
-    return StudyResult("beam-pump", summary, data, files, errata)
+    return COVERAGE.attach(StudyResult("beam-pump", summary, data, files, errata), out)
 
 
 def _both_objectives(best_a, best_v, speed, n=3601):
@@ -828,3 +828,235 @@ def _write(out, theta, w, units, card, table, front, data, best_design=None):
     write_text(out / "beam_pump.json", dumps(data) + "\n")
     files.append(out / "beam_pump.json")
     return files
+
+
+# ------------------------------------------------------------------------------ coverage
+def _coverage():
+    from .coverage import Coverage, Item
+
+    s = "tests/test_beam_pump_study.py::"
+    pf = "tests/test_beam_pump_pitman.py::"
+    f = "tests/test_four_bar_formulas.py::"
+    u = "tests/test_pumping_unit.py::"
+    unit = "machines.pumping_unit.BeamPumpingUnit"
+    formulas = "kinematics.four_bar_formulas."
+    missing = "the figure is missing from the text"
+    return Coverage(
+        "Paper 000: kinematics of the one-armed beam pumping unit (Mark II type)",
+        "beam-pump",
+        (
+            Item(
+                "Figs. 1-2",
+                "figure",
+                "scheme of the unit and its vector loop",
+                "not reproducible",
+                unit + ".sketch",
+                note=f"{missing}; the unit is drawn and animated (beam_pump.gif)",
+            ),
+            Item(
+                "eq. (1)",
+                "equation",
+                "Grashof full-turn condition r + d <= l + k",
+                "reproduced",
+                unit + ".feasibility_constraints",
+                (u + "test_bad_inputs_are_named",),
+            ),
+            Item(
+                "eqs. (2)-(3)",
+                "equation",
+                "crank and pitman from the stroke",
+                "reproduced",
+                "machines.pumping_unit.paper_crank_and_pitman",
+                (
+                    u + "test_paper_synthesis_gives_the_stroke",
+                    s + "test_printed_variants_reproduced_by_eqs_2_3",
+                ),
+            ),
+            Item(
+                "eqs. (4)-(7)",
+                "equation",
+                "vector loop and position functions phi2, phi3",
+                "reproduced",
+                formulas + "position_functions",
+                (
+                    f + "test_formulas_agree_with_dyad",
+                    pf + "test_position_functions_in_the_base_frame_15_and_polished_rod_16",
+                ),
+            ),
+            Item(
+                "eqs. (8), (10)",
+                "equation",
+                "velocity loop and omega3 = omega1 U3",
+                "reproduced",
+                formulas + "velocity_ratios",
+                (
+                    f + "test_ratios_and_derivatives_are_finite_differences",
+                    f + "test_printed_u2_has_the_wrong_sign_and_u3_is_right",
+                ),
+            ),
+            Item(
+                "eqs. (9), (11): U2",
+                "equation",
+                "pitman velocity ratio U2",
+                "erratum",
+                formulas + "velocity_ratios",
+                (f + "test_printed_u2_has_the_wrong_sign_and_u3_is_right",),
+                "wrong sign: r sin(phi3 - phi1) / (l sin(phi2 - phi3))",
+            ),
+            Item(
+                "eq. (12)",
+                "equation",
+                "angular accelerations eps_i = eps1 U_i + omega1^2 U_i'",
+                "erratum",
+                formulas + "velocity_ratio_derivatives",
+                (f + "test_angular_accelerations_match_four_bar_motion",),
+                "printed with U_i where U_i' belongs",
+            ),
+            Item(
+                "eqs. (13)-(14)",
+                "equation",
+                "U2', U3'",
+                "erratum",
+                formulas + "velocity_ratio_derivatives",
+                (
+                    f + "test_printed_derivatives_are_wrong",
+                    f + "test_ratios_and_derivatives_are_finite_differences",
+                ),
+                "garbled (misplaced r and (U2 - 1)); derived and tested against finite differences",
+            ),
+            Item(
+                "eq. (15)",
+                "equation",
+                "angles in the base frame, alpha1 = direction of O1O2",
+                "reproduced",
+                unit + ".motion",
+                (pf + "test_position_functions_in_the_base_frame_15_and_polished_rod_16",),
+            ),
+            Item(
+                "eq. (16)",
+                "equation",
+                "polished-rod speed and acceleration",
+                "reproduced",
+                unit + ".motion",
+                (
+                    pf + "test_position_functions_in_the_base_frame_15_and_polished_rod_16",
+                    u + "test_torque_factor_is_derivative_of_position",
+                ),
+            ),
+            Item(
+                "base dimensions",
+                "data",
+                "k, k1, Y_O2 of the Lufkin Mark II",
+                "not reproducible",
+                "studies.beam_pump.fit_base_geometry",
+                note="not printed: k, swing and Y_O2 fitted to the printed r, l of 2a, 2b by "
+                "(2)-(3); k1 from the API 11E geometry of a Mark II M-912D-365-168",
+            ),
+            Item(
+                "variants 2a, 2b",
+                "data",
+                "r, l, X_O2 of the desaxial units",
+                "erratum",
+                "studies.beam_pump.variants",
+                (s + "test_printed_variants_reproduced_by_eqs_2_3",),
+                "reproduced by (2)-(3) on one beam to 0.048 %, not exactly",
+            ),
+            Item(
+                "Fig. 3",
+                "figure",
+                "polished-rod position, speed, acceleration; axial, 2a, 2b",
+                "not reproducible",
+                "beam_pump_kinematics.png",
+                note=f"{missing}; redrawn from (4)-(16)",
+            ),
+            Item(
+                "Fig. 4",
+                "figure",
+                "crank torque",
+                "not reproducible",
+                "beam_pump_torque.png",
+                note=f"{missing} and the load is not given; an idealized card (assumed)",
+            ),
+            Item(
+                "Fig. 5",
+                "figure",
+                "pressure angle",
+                "not reproducible",
+                "beam_pump_pressure_angle.png",
+                note=f"{missing}; redrawn",
+            ),
+            Item(
+                "finding: stroke",
+                "finding",
+                "the working stroke lengthens from axial to desaxial",
+                "erratum",
+                "studies.beam_pump (findings)",
+                (s + "test_findings",),
+                "(2)-(3) fix the stroke for every variant; the upstroke's crank angle grows",
+            ),
+            Item(
+                "finding: extrema",
+                "finding",
+                "the speed and acceleration extrema decrease",
+                "refuted",
+                "studies.beam_pump (findings)",
+                (s + "test_findings",),
+                "holds on the upstroke only; over the cycle the peak speed rises and the peak "
+                "acceleration is not monotone",
+            ),
+            Item(
+                "finding: torque",
+                "finding",
+                "Fig. 4 confirms the lower crank torque",
+                "reproduced",
+                "studies.beam_pump (findings)",
+                (s + "test_findings",),
+                "peak net torque with the optimal counterbalance falls axial > 2a > 2b",
+            ),
+            Item(
+                "finding: pressure angle",
+                "finding",
+                "the pressure angle grows with the desaxial",
+                "reproduced",
+                "studies.beam_pump (findings)",
+                (s + "test_findings",),
+            ),
+            Item(
+                "finding: pitman",
+                "finding",
+                "the larger pressure angle loads the pitman more",
+                "reproduced",
+                "studies.beam_pump.pitman_force",
+                (
+                    pf + "test_desaxial_pressure_angle_loads_the_pitman_more",
+                    pf + "test_pitman_force_equals_the_beam_moment_balance",
+                    s + "test_findings",
+                ),
+                "same card: peak pitman force +5 % (2a), +23 % (2b)",
+            ),
+            Item(
+                "recommendation 1",
+                "recommendation",
+                "the scheme with the smallest maximum speed and acceleration of the polished rod",
+                "added",
+                "studies.beam_pump.synthesis_problem",
+                (
+                    s + "test_recommendation_1_both_objectives",
+                    s + "test_synthesis_beats_every_feasible_variant",
+                ),
+                "two syntheses: the objectives conflict, no variant or design is best in both",
+            ),
+            Item(
+                "recommendation 2",
+                "recommendation",
+                "the best compromise of the kinematic extrema with the smallest pressure angle",
+                "added",
+                "studies.beam_pump.pareto",
+                (s + "test_pareto_front", s + "test_velocity_pressure_front"),
+                "Pareto fronts of peak acceleration and of peak speed against the pressure angle",
+            ),
+        ),
+    )
+
+
+COVERAGE = _coverage()

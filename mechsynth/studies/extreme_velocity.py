@@ -310,11 +310,19 @@ def _chart_figure(path, chart):
 
     x, y = chart["ratio"], chart["offset"]
     panels = (
-        ("s_max", 1.0, "S'_v = max s0 (working stroke, towards the pivot), per crank length",
-         np.array([1.01, 1.02, 1.03, 1.05, 1.07, 1.1, 1.15, 1.2, 1.3, 1.4, 1.6, 2.0])),
+        (
+            "s_max",
+            1.0,
+            "S'_v = max s0 (working stroke, towards the pivot), per crank length",
+            np.array([1.01, 1.02, 1.03, 1.05, 1.07, 1.1, 1.15, 1.2, 1.3, 1.4, 1.6, 2.0]),
+        ),
         ("phi_max", 180 / np.pi, "its crank angle φ0, deg", np.arange(40.0, 90.1, 5.0)),
-        ("s_min", -1.0, "|min s0| (return stroke), per crank length",
-         np.array([1.0, 1.005, 1.01, 1.02, 1.03, 1.05, 1.07, 1.1, 1.15, 1.2, 1.3])),
+        (
+            "s_min",
+            -1.0,
+            "|min s0| (return stroke), per crank length",
+            np.array([1.0, 1.005, 1.01, 1.02, 1.03, 1.05, 1.07, 1.1, 1.15, 1.2, 1.3]),
+        ),
         ("phi_min", 180 / np.pi, "its crank angle, deg", np.arange(240.0, 330.1, 5.0)),
     )
     with style():
@@ -330,10 +338,12 @@ def _chart_figure(path, chart):
             edge = np.linspace(*CHART_OFFSETS, 50)
             # blank up to the first feasible grid column, hatched where no full turn exists
             step = x[0, 1] - x[0, 0]
-            ax.fill_betweenx(edge, CHART_RATIOS[0], 1.0 + edge + CHART_MARGIN + step,
-                             color="0.93", lw=0.0)
-            ax.fill_betweenx(edge, CHART_RATIOS[0], 1.0 + edge, fc="0.85", hatch="//",
-                             ec="0.55", lw=0.4)
+            ax.fill_betweenx(
+                edge, CHART_RATIOS[0], 1.0 + edge + CHART_MARGIN + step, color="0.93", lw=0.0
+            )
+            ax.fill_betweenx(
+                edge, CHART_RATIOS[0], 1.0 + edge, fc="0.85", hatch="//", ec="0.55", lw=0.4
+            )
             ax.plot(1.0 + edge, edge, color="0.3", lw=1.0)
             ax.set_xlim(*CHART_RATIOS)
             ax.set_ylim(*CHART_OFFSETS)
@@ -456,4 +466,177 @@ def _run(out, stages) -> StudyResult:
         "lambda_s_errata_rows": [r["lambda"] for r in bad],
         "reference_chart": _chart_summary(chart),
     }
-    return StudyResult("extreme-velocity", "\n".join(lines), data, files, errata)
+    result = StudyResult("extreme-velocity", "\n".join(lines), data, files, errata)
+    return COVERAGE.attach(result, out)
+
+
+# ------------------------------------------------------------------------------ coverage
+def _coverage():
+    from .coverage import Coverage, Item
+
+    t = "tests/test_extreme_velocity.py::"
+    c = "tests/test_extreme_velocity_chart.py::"
+    k = "kinematics.extreme_velocity."
+    return Coverage(
+        "Paper 004 (Dzhavadyan): extreme slider velocities of the slider-crank",
+        "extreme-velocity",
+        (
+            Item(
+                "Fig. 1",
+                "figure",
+                "scheme of the offset slider-crank OA = a, AB = b, OC = e",
+                "not reproducible",
+                "SliderCrank.draw",
+                note="the figure is missing from the text; its notation is that of (1)-(2) and "
+                "the study draws and animates the b/a = 2 design",
+            ),
+            Item(
+                "eq. (1)",
+                "equation",
+                "m0 = sqrt(i^2 - (e0 + sin phi)^2)",
+                "reproduced",
+                "studies.extreme_velocity.m0",
+                (c + "test_m0_prime_printed_without_its_minus_sign",),
+            ),
+            Item(
+                "eq. (2)",
+                "equation",
+                "velocity analog s0 per crank length",
+                "reproduced",
+                k + "velocity_analog",
+                (t + "test_acceleration_analog_formula_matches_finite_differences",),
+                "equals -dx_B/dphi / a of SliderCrank to 1e-14 (the paper's s0 points towards "
+                "the pivot)",
+            ),
+            Item(
+                "eq. (3) s0'",
+                "equation",
+                "acceleration analog s0'",
+                "reproduced",
+                k + "velocity_analog_derivative",
+                (
+                    c + "test_printed_s0_prime_is_right_with_the_corrected_m0_prime",
+                    t + "test_acceleration_analog_formula_matches_finite_differences",
+                ),
+                "the printed s0' with the corrected m0' equals finite differences to 1e-8",
+            ),
+            Item(
+                "eq. (3) m0'",
+                "equation",
+                "m0' = dm0/dphi",
+                "erratum",
+                "studies.extreme_velocity.m0_derivative",
+                (
+                    c + "test_m0_prime_printed_without_its_minus_sign",
+                    c + "test_polynomial_4_was_built_with_the_correct_sign",
+                ),
+                "printed without its minus sign; (4) was derived with the right one",
+            ),
+            Item(
+                "eq. (4)",
+                "equation",
+                "degree-6 polynomial in sin(phi0) of s0' = 0",
+                "erratum",
+                k + "polynomial_coefficients",
+                (
+                    t + "test_polynomial_vanishes_at_the_numeric_extrema",
+                    t + "test_polynomial_is_the_squared_extremum_condition",
+                    t + "test_offset_extremes_match_numeric_search",
+                ),
+                "p6 printed as p0, sign of e0^2 i^2 in p3, p0 wrong: for e0 != 0 the printed "
+                "roots are no extrema; derived coefficients used",
+            ),
+            Item(
+                "eq. (4), e0 = 0",
+                "equation",
+                "the centric cubic in sin^2(phi0)",
+                "reproduced",
+                k + "polynomial_coefficients",
+                (t + "test_centric_polynomial_reduces_to_the_printed_cubic",),
+            ),
+            Item(
+                "eq. (5)",
+                "equation",
+                "absolute extreme velocity analog S'_v",
+                "reproduced",
+                k + "extreme_velocity",
+                (
+                    t + "test_offset_extremes_match_numeric_search",
+                    t + "test_batch_equals_single_designs",
+                ),
+                "any a, b, e: equal to a bounded numeric search to 1e-10",
+            ),
+            Item(
+                "eq. (6)",
+                "equation",
+                "velocity coefficient lambda_s = S'_v phi_u / S_u",
+                "reproduced",
+                k + "Extremum.lambda_s",
+                (t + "test_table_1_row",),
+            ),
+            Item(
+                "eq. (7)",
+                "equation",
+                "stroke S_u and its crank angle phi_u",
+                "reproduced",
+                k + "stroke_crank_angle",
+                (t + "test_stroke_crank_angle_formula_7_matches_dead_centres",),
+                "the sign lost in the conversion ('lower sign'): phi_u = pi + arccos(...) is the "
+                "longer stroke",
+            ),
+            Item(
+                "Table 1, S'_v",
+                "table",
+                "extreme velocity analog for 18 rod/crank ratios",
+                "reproduced",
+                "table1.csv",
+                (t + "test_table_1_row", c + "test_chart_centric_row_is_table_1"),
+                "to 1.02e-7 (one unit of the 7th decimal; 1.011e-7 at b/a = 2.00)",
+            ),
+            Item(
+                "Table 1, phi0",
+                "table",
+                "crank angle of the extremum",
+                "reproduced",
+                "table1.csv",
+                (t + "test_table_1_row",),
+                "to 20 arc-seconds, except b/a = 5.25",
+            ),
+            Item(
+                "Table 1, phi0 at b/a = 5.25",
+                "table",
+                "printed 79°31'14\"",
+                "erratum",
+                "table1.csv",
+                (t + "test_table_1_row", t + "test_study_rows_and_errata"),
+                "the extremum is at 79°34'24\"; the printed angle gives s0 = 1.0180004, not the "
+                "printed S'_v",
+            ),
+            Item(
+                "Table 1, lambda_s",
+                "table",
+                "velocity coefficient column",
+                "erratum",
+                "table1.csv",
+                (t + "test_lambda_s_erratum_two", t + "test_table_1_row"),
+                "does not follow from (6) with phi_u = pi, S_u = 2 (up to 0.6 %: 1.7643 for "
+                "1.7751 at b/a = 2)",
+            ),
+            Item(
+                "reference charts",
+                "finding",
+                "eqs. (4)-(7) solved for designers' reference charts",
+                "added",
+                "extreme_velocity_chart.png",
+                (
+                    c + "test_chart_centric_row_is_table_1",
+                    c + "test_chart_against_dense_sampling_and_mirror",
+                    c + "test_chart_figure_is_clean",
+                ),
+                "contours of both extremes and their angles over b/a 1.2-6, e/a 0-2",
+            ),
+        ),
+    )
+
+
+COVERAGE = _coverage()

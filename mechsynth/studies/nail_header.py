@@ -366,7 +366,8 @@ def _run(out, angles, scan_step, stages):
         "balancing": _balance_data(balance),
         "angles": int(angles),
     }
-    return StudyResult("nail-header", "\n".join(lines), data, files, list(ERRATA))
+    result = StudyResult("nail-header", "\n".join(lines), data, files, list(ERRATA))
+    return COVERAGE.attach(result, out)
 
 
 def _centred(phi):
@@ -841,3 +842,236 @@ def _balance_figure(out, phi, b):
         ax.legend(loc="upper left", bbox_to_anchor=(0.0, -0.12), ncol=2)
         fig.suptitle("AB4115 nail header: balancing and the slider mass (paper 003)", fontsize=10)
         return save_figure(fig, out / "nail_header_balance.png", dpi=110)
+
+
+# ------------------------------------------------------------------------------ coverage
+def _coverage():
+    from .coverage import Coverage, Item
+
+    n = "tests/test_nail_header.py::"
+    pp = "tests/test_nail_header_paper.py::"
+    b = "tests/test_nail_header_balance.py::"
+    model = "machines.nail_header.NailHeader"
+    missing = "the figure is missing from the text"
+    return Coverage(
+        "Paper 003, first part: force loading of the AB4115 nail header",
+        "nail-header",
+        (
+            Item(
+                "Fig. 1",
+                "figure",
+                "kinematic scheme of the upsetting mechanism",
+                "not reproducible",
+                model + ".sketch",
+                note=f"{missing}; the study animates the mechanism (nail_header.gif)",
+            ),
+            Item(
+                "input data",
+                "data",
+                "lengths, masses, inertias, 600 rpm clockwise",
+                "reproduced",
+                model,
+                (pp + "test_table_1_to_half_a_newton_with_the_printed_spring_law",),
+            ),
+            Item(
+                "J_S3",
+                "data",
+                "J_S3 = 0.0027 kg m^2",
+                "erratum",
+                model + ".j_s5",
+                (pp + "test_table_1_to_half_a_newton_with_the_printed_spring_law",),
+                "the ejector's inertia J_S5: the slider does not rotate",
+            ),
+            Item(
+                "(1.1)-(1.2)",
+                "equation",
+                "crank and slider positions and analogs, s_B",
+                "reproduced",
+                model + ".motion",
+                (pp + "test_printed_kinematics_1_1_to_1_6",),
+            ),
+            Item(
+                "(1.3)",
+                "equation",
+                "rod centre of mass",
+                "reproduced",
+                model + ".force_model",
+                (pp + "test_printed_kinematics_1_1_to_1_6",),
+            ),
+            Item(
+                "(1.4)",
+                "equation",
+                "ejector angle phi5 and its analogs, point D",
+                "reproduced",
+                model + ".motion",
+                (pp + "test_printed_kinematics_1_1_to_1_6",),
+            ),
+            Item(
+                "(1.5)",
+                "equation",
+                "ejector centre of mass",
+                "reproduced",
+                model + ".force_model",
+                (pp + "test_printed_kinematics_1_1_to_1_6",),
+            ),
+            Item(
+                "(1.6)",
+                "equation",
+                "speeds and accelerations at omega1",
+                "reproduced",
+                model + ".motion",
+                (pp + "test_printed_kinematics_1_1_to_1_6",),
+            ),
+            Item(
+                "F_e",
+                "equation",
+                "upsetting force F_e0 + c1 l_e^4",
+                "reproduced",
+                "dynamics.loads.upsetting_force",
+                ("tests/test_loads.py::test_upsetting_force_paper_003",),
+                "52.35 kN at the outer dead centre",
+            ),
+            Item(
+                "c1",
+                "data",
+                "c1 = 571 N/mm^2",
+                "erratum",
+                "dynamics.loads.upsetting_force",
+                ("tests/test_loads.py::test_upsetting_force_paper_003",),
+                "N/mm^4 with l_e in mm",
+            ),
+            Item(
+                "M_n, phi50",
+                "equation",
+                "ejector spring M_n0 + c2 beta5, beta5 = phi50 - phi5",
+                "reproduced",
+                model + ".spring",
+                (
+                    pp + "test_printed_phi50_is_the_ejector_angle_at_the_inner_dead_centre",
+                    pp + "test_outer_reading_leaves_the_15_newton_residual",
+                ),
+                "the printed phi50 is the ejector angle at the inner dead centre: twist 0 to "
+                "38.5 deg, contact pressed all turn",
+            ),
+            Item(
+                "c2",
+                "data",
+                "c2 = 4.125 N m",
+                "erratum",
+                model + ".spring",
+                (pp + "test_printed_phi50_is_the_ejector_angle_at_the_inner_dead_centre",),
+                "a torsion stiffness: N m/rad",
+            ),
+            Item(
+                "Fig. 2",
+                "figure",
+                "kinematic diagrams of the slider and the ejector",
+                "not reproducible",
+                model + ".motion",
+                note=f"{missing}; its curves are (1.1)-(1.6), tested",
+            ),
+            Item(
+                "(2.1)-(2.6)",
+                "equation",
+                "reactions R43, R50, R21, R30, R32, R10",
+                "reproduced",
+                "dynamics.kinetostatics.kinetostatics",
+                (
+                    pp + "test_table_1_to_half_a_newton_with_the_printed_spring_law",
+                    n + "test_power_balance_nail_header",
+                    n + "test_power_balance_random_nail_headers",
+                ),
+                "by the general kinetostatics (one linear system per angle), not the printed "
+                "closed forms, which the conversion garbled",
+            ),
+            Item(
+                "Figs. 3-4",
+                "figure",
+                "hodographs and diagrams of the reactions, 15 and 50 kg",
+                "not reproducible",
+                "nail_header_hodographs.png, nail_header_reactions.png",
+                note=f"{missing}; drawn from the model",
+            ),
+            Item(
+                "Table 1, R10 R21 R32",
+                "table",
+                "maximum reactions at phi = 0, 15 and 50 kg",
+                "reproduced",
+                "nail_header_table1.csv",
+                (
+                    pp + "test_table_1_to_half_a_newton_with_the_printed_spring_law",
+                    n + "test_table_1",
+                ),
+                "to 0.5 N (0.001 %)",
+            ),
+            Item(
+                "Table 1, R43 R50",
+                "table",
+                "ejector reactions at phi = pi",
+                "reproduced",
+                "nail_header_table1.csv",
+                (pp + "test_table_1_to_half_a_newton_with_the_printed_spring_law",),
+                "69.2 and 38.3 N (printed 69, 38)",
+            ),
+            Item(
+                "Table 1, R50 at 15 kg",
+                "table",
+                "printed 34 N",
+                "erratum",
+                "nail_header_table1.csv",
+                (pp + "test_table_1_to_half_a_newton_with_the_printed_spring_law",),
+                "the ejector does not feel the slider mass: 38.3 N as in the 50 kg row",
+            ),
+            Item(
+                "Table 1, units and 15 kg row",
+                "table",
+                "printed in kg, row scrambled",
+                "erratum",
+                "nail_header_table1.csv",
+                (n + "test_table_1",),
+                "newtons; read R10 45108, R21 43480, R32 46998",
+            ),
+            Item(
+                "finding 1",
+                "finding",
+                "the blow can be compensated by inertia forces: the "
+                "reactions fall with a rational choice of masses, the slider first",
+                "reproduced",
+                "studies.nail_header (optimal slider mass)",
+                (n + "test_study_json_and_optimum",),
+                "cvxpy minimax: 73.3 kg for peak R32 (-44 %), 68.4 kg for R10/R21/R32",
+            ),
+            Item(
+                "finding 2",
+                "recommendation",
+                "make the slider mass adjustable: nails of "
+                "different sizes and metals need different blows",
+                "added",
+                "machines.nail_header.load_cases",
+                (
+                    b + "test_robust_slider_mass_over_nail_sizes",
+                    b + "test_nail_cases_scale_the_blow_with_d_squared",
+                ),
+                "nail sizes 2-3 mm (geometrically similar: an assumption): one slider for all "
+                "(worst peak, worst ratio) and each size's own optimum",
+            ),
+            Item(
+                "aim: balancing",
+                "finding",
+                "the inertia forces passed to the frame (the paper's stated aim)",
+                "added",
+                "machines.nail_header.balance",
+                (
+                    b + "test_shaking_equals_the_frame_load_from_the_ground_reactions",
+                    b + "test_shaking_equals_frame_load_with_any_counterweight",
+                    b + "test_counterweight_minimax_is_optimal_and_costs_r10",
+                    b + "test_trade_off_front_is_monotone_and_respects_its_limits",
+                ),
+                "shaking force and moment, the counterweight SOCP and its trade-off with the "
+                "reactions",
+            ),
+        ),
+    )
+
+
+COVERAGE = _coverage()
