@@ -440,3 +440,28 @@ def test_hostile_poses_succeed_finitely_or_refuse(n):
             pass
 
     prop()
+
+
+def test_linkage_tables_read_back_for_both_kinds():
+    import tomllib
+
+    from mechsynth.explore.model import to_toml
+    from mechsynth.synthesis.linkage_file import linkage_from_data
+
+    lk = (
+        ms.Linkage(ground={"O": (0.3, 0.2)})
+        .crank("A", about="O", length=0.5)
+        .rrp("B", ("A", 1.6), guide=((0.0, -0.1), np.radians(20.0)))
+        .attach("P", on=("A", "B"), along=0.7, left=0.4)
+        .attach("Q", on=("A", "B"), along=1.7, left=0.4)
+    )
+    m = lk.motion(np.radians([0.0, 70.0, 140.0, 210.0, 280.0]))
+    px, py = m.points["P"].x, m.points["P"].y
+    poses = np.column_stack([px, py, np.arctan2(m.points["Q"].y - py, m.points["Q"].x - px)])
+    for p in (poses, POSES5):
+        for c in ms.motion_generation(p).candidates:
+            back = linkage_from_data(tomllib.loads(to_toml(c.linkage_data())))
+            assert back.parameters.keys() == c.linkage.parameters.keys()
+            for k, v in c.linkage.parameters.items():
+                assert back.parameters[k] == pytest.approx(v, abs=1e-15)
+            assert np.allclose(pose_errors(back, p)[0], pose_errors(c.linkage, p)[0], atol=1e-12)

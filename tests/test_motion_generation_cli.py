@@ -147,7 +147,24 @@ def test_example_poses_file_gives_back_its_crank_rocker(capsys):
     assert main(["synthesize", "motion", str(path), "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
     # the crank-rocker the file's comment names (its poses written to 1e-6 mm and deg)
-    lengths = [
-        sorted(c["parameters"][k] for k in ("OA", "AB", "DB")) for c in data["candidates"]
-    ]
+    lengths = [sorted(c["parameters"][k] for k in ("OA", "AB", "DB")) for c in data["candidates"]]
     assert any(np.allclose(v, [0.12, 0.30, 0.35], atol=1e-7) for v in lengths)
+
+
+@pytest.mark.slow
+def test_optimize_five_poses_raises_the_transmission_angle(tmp_path, capsys):
+    f = _csv(tmp_path / "poses.csv", POSES5)
+    out = tmp_path / "out"
+    rc = main(["synthesize", "motion", str(f), "--optimize", "--tol", "0.05", "--starts", "1",
+               "--json", "--out", str(out)])  # fmt: skip
+    data = json.loads(capsys.readouterr().out)
+    assert rc == 0 and data["optimize"]["mode"] == "transmission"
+    exact = data["candidates"][0]["min_transmission_deg"]
+    assert np.degrees(data["optimize"]["value"]) > exact
+    # the written design is the refined one and still takes the poses within the tolerance
+    from mechsynth.synthesis.motion_generation import pose_error_measure
+
+    refined = load_linkage(out / "linkage.toml")
+    assert pose_error_measure(POSES5).fn(refined) <= 0.05 + 1e-6
+    start = data["candidates"][0]["parameters"]
+    assert max(abs(refined.parameters[k] - v) for k, v in start.items()) > 1e-3

@@ -121,6 +121,11 @@ class Candidate:
              s * p[..., 0] + c * p[..., 1] + self.origin[1]], -1
         )  # fmt: skip
 
+    def _rrr_branch(self) -> int:
+        """The branch the linkage's RRR group was built on (its first pose's when the poses
+        change branch)."""
+        return int(next(g.branch for g in self.linkage.groups if getattr(g, "kind", "") == "RRR"))
+
     def linkage_data(self) -> dict:
         """The linkage as the tables of a linkage file (``[linkage]``, ``[ground]``,
         ``[[group]]``; SI numbers), as :func:`~mechsynth.synthesis.load_linkage` reads them."""
@@ -131,7 +136,7 @@ class Candidate:
             ground["D"] = [p["D_x"], p["D_y"]]
             groups.append(
                 {"type": "rrr", "point": "B", "first": ["A", p["AB"]], "second": ["D", p["DB"]],
-                 "branch": int(self.branch or 1)}
+                 "branch": self._rrr_branch()}
             )  # fmt: skip
         else:
             guide = {"through": [p["B_guide_x"], p["B_guide_y"]], "angle": p["B_guide_angle"]}
@@ -283,19 +288,20 @@ def pose_errors(linkage, poses, crank_angles=None) -> tuple[np.ndarray, np.ndarr
     """How far a linkage of this module (points ``O``, ``A``, ``P``, ``Q``) misses the poses:
     ``(position error (m), angle error (rad))`` per pose, with the crank turned to
     ``crank_angles`` or, by default, to where the pose puts the moving pivot A (the angle of
-    ``A - O`` with A placed by the pose from its place in the pose frame of the first pose)."""
+    ``A - O`` with A placed by the pose). A linkage that cannot be assembled at one of these
+    crank angles raises :class:`~mechsynth.MechanismError` (it cannot take that pose)."""
     poses = as_poses(poses, max_poses=None)
     if crank_angles is None:
-        m1 = linkage.motion(np.array([0.0]))
-        a = np.array([m1.points["A"].x[0], m1.points["A"].y[0]])
-        p = np.array([m1.points["P"].x[0], m1.points["P"].y[0]])
-        q = np.array([m1.points["Q"].x[0], m1.points["Q"].y[0]])
-        f = (q - p) / np.hypot(*(q - p))
-        local = np.array([(a - p) @ f, _cross(f, a - p)])
+        # A in the pose frame, from the coupler frame (origin A, x towards B) the points are
+        # attached in: no motion needed (a rocking crank need not reach any given angle)
+        o = {k: float(v) for k, v in linkage.parameters.items()}
+        p = np.array([o["P_along"], o["P_left"]])
+        f = np.array([o["Q_along"], o["Q_left"]]) - p
+        f = f / np.hypot(*f)
+        local = np.array([(-p) @ f, _cross(f, -p)])
         c, s = np.cos(poses[:, 2]), np.sin(poses[:, 2])
         ax = poses[:, 0] + c * local[0] - s * local[1]
         ay = poses[:, 1] + s * local[0] + c * local[1]
-        o = linkage.parameters
         crank_angles = np.arctan2(ay - o["O_y"], ax - o["O_x"]) - o.get("phase", 0.0)
     m = linkage.motion(np.asarray(crank_angles, float))
     px, py = np.asarray(m.points["P"].x, float), np.asarray(m.points["P"].y, float)
