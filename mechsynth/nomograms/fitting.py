@@ -171,7 +171,7 @@ def _fit_block(f, u, v, outputs, *, degree=6, grid=25, even=0.01, model=None) ->
             raise MechanismError(f"fitted: {o.name} = f(u, v) is not finite over the domain")
         if o.domain is None:
             lo, hi = float(w.min()), float(w.max())
-            pad = (0.005 if o.fn is None else 1e-4) * (hi - lo)  # F may end near the range
+            pad = (0.02 if o.fn is None else 1e-4) * (hi - lo)  # F may end near the range
             dom = (lo - pad, hi + pad)
             if o.fn is not None and not np.all(np.isfinite(o.F(np.array(dom)))):
                 dom = (lo, hi)
@@ -276,7 +276,7 @@ def fitted(
     f : ``f(u, v) -> w`` (numpy, broadcasting; SI), or a tuple of values for several outputs.
     u, v : the inputs (:class:`~mechsynth.nomograms.forms.Var` or ``(name, (lo, hi))``).
     outputs : the outputs' variables; a domain of None takes f's range over the inputs (with a
-        0.5 % margin). The first output's scale is the straight line, graduated by its ``fn``
+        2 % margin). The first output's scale is the straight line, graduated by its ``fn``
         when it has one (e.g. ``log(k - 2)`` for a quantity that grows from 2 like a power),
         else linearly or logarithmically; further outputs get curves.
     degree : degree of the Chebyshev series of each curve's coordinates.

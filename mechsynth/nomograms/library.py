@@ -29,7 +29,14 @@ from ..options import Option, Options
 from .forms import Var, parallel, z_chart
 from .nomogram import Nomogram
 
-__all__ = ["NOMOGRAMS", "build", "options_of", "preferred_units", "displacement_constant"]
+__all__ = [
+    "NOMOGRAMS",
+    "build",
+    "options_of",
+    "preferred_units",
+    "displacement_constant",
+    "crank_rocker_design",
+]
 
 def _span(name, default, help, unit="", minimum=None, maximum=None):
     return Option(name, default, help, unit=unit, kind="span", minimum=minimum, maximum=maximum)
@@ -197,6 +204,99 @@ def extreme_velocity(rod_crank=(2.0, 6.0), offset_crank=(0.0, 0.8), extreme="max
     )
 
 
+# ---------------------------------------------------------------------------- four-bar
+def crank_rocker_design(swing, time_ratio, max_ratio=5.0, n=1201):
+    """The crank-rocker of rocker swing ``swing`` (rad) and time ratio ``time_ratio`` with the
+    best minimum transmission angle, links per unit ground.
+
+    The classical construction: rocker 1 about the origin, its two limit positions ``B1, B2``
+    (a chord of length ``2 sin(swing / 2)``); the crank pivot sees the chord under
+    ``theta = pi (Q - 1) / (Q + 1)``, on either side, at an angle ``beta`` of the chord at B1
+    (law of sines: ``|O2 B1| = L sin(theta + beta) / sin(theta)``, ``|O2 B2| = L sin(beta) /
+    sin(theta)``), so crank and coupler are half the difference and half the sum of those.
+    ``n`` values of beta per side; the candidates must be Grashof crank-rockers whose swing and
+    time ratio are the ones asked (checked from their dead centres), the longest link at most
+    ``max_ratio`` cranks. Returns ``(mu_min, crank, coupler, rocker)`` (rad, per unit ground).
+    """
+    psi = np.asarray(swing, dtype=float)[..., None]
+    Q = np.asarray(time_ratio, dtype=float)[..., None]
+    th = np.pi * (Q - 1.0) / (Q + 1.0)
+    L = 2.0 * np.sin(psi / 2.0)
+    beta = np.linspace(0.0, 1.0, n + 2)[1:-1] * (np.pi - th)
+    p = L * np.sin(th + beta) / np.sin(th)
+    q = L * np.sin(beta) / np.sin(th)
+    a, b = np.abs(q - p) / 2.0, (q + p) / 2.0
+    best = None
+    for side in (1.0, -1.0):
+        d = np.hypot(np.sin(psi / 2.0) - p * np.cos(beta),
+                     np.cos(psi / 2.0) - side * p * np.sin(beta))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            cos1 = (b * b + 1.0 - (d - a) ** 2) / (2.0 * b)
+            cos2 = (b * b + 1.0 - (d + a) ** 2) / (2.0 * b)
+            # dead centres: rocker angles and crank directions from the triangles (d, 1, b -+ a)
+            g1 = np.arccos((d * d + 1.0 - (b - a) ** 2) / (2.0 * d))
+            g2 = np.arccos((d * d + 1.0 - (b + a) ** 2) / (2.0 * d))
+            t1 = np.arccos((d * d + (b - a) ** 2 - 1.0) / (2.0 * d * (b - a)))
+            t2 = np.arccos((d * d + (b + a) ** 2 - 1.0) / (2.0 * d * (b + a)))
+        mu1, mu2 = np.arccos(np.clip(cos1, -1, 1)), np.arccos(np.clip(cos2, -1, 1))
+        mu = np.minimum(np.minimum(mu1, np.pi - mu1), np.minimum(mu2, np.pi - mu2))
+        longest = np.maximum(np.maximum(b, 1.0), d)
+        ok = (np.abs(cos1) <= 1) & (np.abs(cos2) <= 1)
+        ok &= (a < np.minimum(np.minimum(b, 1.0), d)) & (2.0 * (a + longest) <= a + b + 1.0 + d)
+        ok &= (longest <= max_ratio * a) & (np.abs(np.abs(g1 - g2) - psi) < 1e-7)
+        ok &= np.abs(np.abs(t1 - t2) - th) < 1e-7
+        mu = np.where(ok, mu, -1.0)
+        k = mu.argmax(axis=-1)[..., None]
+        with np.errstate(invalid="ignore", divide="ignore"):  # d = 0 only where not ok
+            cand = [np.take_along_axis(x, k, -1)[..., 0] for x in (mu, a / d, b / d, 1.0 / d)]
+        if best is None:
+            best = cand
+        else:
+            take = cand[0] > best[0]
+            best = [np.where(take, x, y) for x, y in zip(cand, best, strict=True)]
+    if np.any(best[0] < 0):
+        raise MechanismError("crank_rocker_design: no crank-rocker for some swing and time "
+                             "ratio of the range (try a smaller swing or time ratio)")
+    return tuple(best)
+
+
+FOUR_BAR_OUTPUTS = {
+    "transmission": (0, "best minimum transmission angle", "rad"),
+    "crank": (1, "crank / ground", ""),
+    "coupler": (2, "coupler / ground", ""),
+    "rocker": (3, "rocker / ground", ""),
+}
+
+
+def four_bar(swing_deg=(40.0, 90.0), time_ratio=(1.1, 1.5), read="crank", degree=6,
+             paper="a4"):
+    """Crank-rocker design chart: rocker swing and time ratio -> the link ratio ``read``
+    (crank, coupler or rocker per unit ground) or the minimum transmission angle of the
+    crank-rocker with the best minimum transmission angle (:func:`crank_rocker_design`); one
+    fitted chart per quantity (one set of isopleths cannot carry four functions)."""
+    from .fitting import fitted
+
+    k, title, unit = FOUR_BAR_OUTPUTS[read]
+    sw = (np.radians(swing_deg[0]), np.radians(swing_deg[1]))
+
+    def f(swing, time_ratio):
+        return crank_rocker_design(swing, time_ratio)[k]
+
+    return fitted(
+        f,
+        Var("swing", sw, title="rocker swing", unit="rad"),
+        Var("time_ratio", tuple(time_ratio), title="time ratio"),
+        [Var(read, None, title=title, unit=unit)],
+        degree=degree,
+        title=f"Crank-rocker design: {title}",
+        relation="the crank-rocker of the given rocker swing and time ratio whose minimum "
+        "transmission angle is largest (links per unit ground, longest link at most 5 cranks)",
+        paper=paper,
+        notes=["Fitted chart. Build the design as FourBar(crank, coupler, rocker, ground=1) "
+               "from the four charts (--set read=crank|coupler|rocker|transmission)."],
+    )
+
+
 # ---------------------------------------------------------------------------- pumping unit
 #: 1 bbl = 42 US gal x 231 in^3; a day has 1440 minutes
 BARREL_IN3 = 42.0 * 231.0
@@ -318,6 +418,20 @@ NOMOGRAMS = {
             _span("rod_crank", (2.0, 6.0), "range of b/a", minimum=1.1),
             _span("offset_crank", (0.0, 0.8), "range of e/a (paper's e0)", minimum=0),
             Option("extreme", "max", "which extreme", choices=("max", "min")),
+            Option("degree", 6, "degree of the fitted curves", minimum=2, maximum=12),
+        ),
+        "si",
+    ),
+    "four-bar": (
+        four_bar,
+        "crank-rocker: rocker swing and time ratio -> link ratios and minimum transmission "
+        "angle of the best transmission (fitted; one chart per quantity)",
+        Options(
+            _span("swing_deg", (40.0, 90.0), "range of rocker swings", unit="deg", minimum=5,
+                  maximum=150),
+            _span("time_ratio", (1.1, 1.5), "range of time ratios", minimum=1.001,
+                  maximum=3),
+            Option("read", "crank", "the quantity read", choices=tuple(FOUR_BAR_OUTPUTS)),
             Option("degree", 6, "degree of the fitted curves", minimum=2, maximum=12),
         ),
         "si",

@@ -214,18 +214,22 @@ class Nomogram:
 
     # ------------------------------------------------------------------ reading
     def read(self, **known):
-        """The value of the one unknown labelled variable, read through the geometry.
+        """The value of the one unknown variable, read through the geometry.
 
-        Give every labelled variable but one (SI values, numbers or arrays that broadcast);
-        turning axes are found on the way. Raises :class:`MechanismError` when a value lies off
-        its scale or the isopleth misses the scale of the unknown.
+        Give all but one of the inputs and the output (SI values, numbers or arrays that
+        broadcast); the inputs alone give the output. Turning axes are found on the way; a
+        chart's further outputs are in :meth:`isopleth`. Raises :class:`MechanismError` when a
+        value lies off its scale or the isopleth misses the scale of the unknown.
         """
         labelled = [n for n, s in self.scales.items() if not s.scale.turning]
-        unknown = [n for n in labelled if n not in known]
         extra = sorted(set(known) - set(labelled))
+        if set(self.inputs) <= set(known):
+            unknown = [self.output] if self.output not in known else []
+        else:
+            unknown = [n for n in (*self.inputs, self.output) if n not in known]
         if extra or len(unknown) != 1:
             raise MechanismError(
-                f"read: give all but one of {', '.join(labelled)}"
+                f"read: give all but one of {', '.join((*self.inputs, self.output))}"
                 + (f" (unknown names: {', '.join(extra)})" if extra else "")
                 + f"; got {', '.join(known) or 'none'}"
             )

@@ -108,13 +108,21 @@ def _draw_scale(ax, nm, name, ink):
 
 
 def _stagger_titles(fig, ax):
-    """Lift a scale title that overlaps another one (scales whose ends are close) above it."""
+    """Keep every scale title on the sheet, and lift one that overlaps another (scales whose
+    ends are close) above it."""
     from matplotlib.text import Text
 
     r = fig.canvas.get_renderer()  # text extents need the renderer, not a drawing
     titles = [t for t in fig.findobj(Text) if t.get_gid() == SCALE_TITLE]
     placed = []
+    px = fig.dpi / 25.4  # pixels per mm (the axes is the sheet at 1:1)
+    fb = fig.bbox
     for t in titles:
+        bb = t.get_window_extent(r)
+        shift = max(0.0, fb.x0 + 3 * px - bb.x0) - max(0.0, bb.x1 - (fb.x1 - 3 * px))
+        if shift:  # keep the title on the sheet
+            x, y = t.get_position()
+            t.set_position((x + shift / px, y))
         for _ in range(6):
             bb = t.get_window_extent(r).padded(2.0)
             if not any(bb.overlaps(o) for o in placed):
