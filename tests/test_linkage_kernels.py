@@ -222,3 +222,37 @@ def test_ctrl_c_inside_a_compilation_interrupts_when_it_ends():
         assert sys.unraisablehook == seen.append  # restored
     finally:
         sys.unraisablehook = previous
+
+
+_SECOND_PROCESS = """
+import mechsynth as ms
+from mechsynth.kinematics import compiled, linkage_kernels as lkk
+lk = ms.six_link()
+kernel = lkk.linkage_kernel(lk)
+print(compiled.cached_on_disk([kernel.serial]), sum(kernel.serial.stats.cache_misses.values()),
+      sum(kernel.serial.stats.cache_hits.values()))
+"""
+
+
+@pytest.mark.slow
+def test_a_later_process_loads_the_kernel_from_the_disk_cache(tmp_path):
+    """The kernel's source was stamped with marshal.dumps of code objects, which differs
+    between processes: every new process generated a new module and compiled it again."""
+    import os
+    import subprocess
+    import sys
+
+    env = {**os.environ, "MECHSYNTH_CACHE_DIR": str(tmp_path)}
+    runs = [
+        subprocess.run(
+            [sys.executable, "-c", _SECOND_PROCESS], env=env, capture_output=True, text=True,
+            timeout=600,
+        )  # fmt: skip
+        for _ in range(2)
+    ]
+    for r in runs:
+        assert r.returncode == 0, r.stderr
+    assert "compiling a kernel" in runs[0].stderr  # a new cache: compiled and announced
+    assert runs[1].stderr == ""  # loaded, not announced
+    assert runs[1].stdout.split() == ["True", "0", "1"]  # a cache hit, no miss
+    assert len(list(tmp_path.rglob("mechsynth_linkage_*.py"))) == 1  # one module, not two

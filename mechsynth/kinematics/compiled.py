@@ -49,7 +49,6 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import hashlib
-import marshal
 import math
 import sys
 import threading
@@ -411,11 +410,26 @@ def _twin(fn, namespace, jit):
     return jit(twin)
 
 
+def code_digest(h, code) -> None:
+    """Feed ``code`` (bytecode, names, constants, nested code) into the hash ``h``, the same
+    in every process: ``marshal.dumps`` of a code object is not (it flags objects by their
+    reference counts), which made every new process compile a new kernel."""
+    h.update(code.co_code)
+    h.update(repr((code.co_names, code.co_varnames, code.co_freevars)).encode())
+    for c in code.co_consts:
+        if isinstance(c, types.CodeType):
+            code_digest(h, c)
+        elif isinstance(c, frozenset):  # its order follows the strings' per-process hashes
+            h.update(repr(sorted(map(repr, c))).encode())
+        else:
+            h.update(repr(c).encode())
+
+
 def _stamp(functions) -> int:
     """A 60-bit digest of the functions' code (bytecode, constants, names)."""
     h = hashlib.sha256()
     for fn in functions:
-        h.update(marshal.dumps(getattr(fn, "py_func", fn).__code__))
+        code_digest(h, getattr(fn, "py_func", fn).__code__)
     return int(h.hexdigest()[:15], 16)
 
 
@@ -525,7 +539,9 @@ def _kernels():
     # compile (or load from the disk cache) now, on one design at one angle: a compilation
     # (seconds, once per model version) is announced in one line; a cache load is silent
     one, grid, buf = np.ones(1), np.ones(1), np.empty((6, 1, 1))
-    with announce_compilation("the four-bar and slider-crank batch kernels"):
+    dispatchers = [k for key, k in kernels.items() if key != "atan2"]
+    what = "the four-bar and slider-crank batch kernels"
+    with announce_compilation(what, dispatchers=dispatchers):
         for key, kern in kernels.items():
             if key == "atan2":
                 continue
@@ -565,18 +581,31 @@ def _interrupt_after():
         raise KeyboardInterrupt
 
 
+def cached_on_disk(dispatchers) -> bool | None:
+    """True when every numba dispatcher of ``dispatchers`` has a valid entry in its disk cache
+    (the next call loads it; numba's index is stale-checked against the source), False when
+    one must compile, None when that cannot be told (numba's cache internals changed)."""
+    try:
+        return all(bool(d._cache._cache_file._load_index()) for d in dispatchers)
+    except Exception:  # a private API: no verdict rather than a failure
+        return None
+
+
 @contextlib.contextmanager
-def announce_compilation(what: str, after: float = 3.0):
-    """Print one line to stderr if the block takes longer than ``after`` seconds (a numba
-    compilation rather than a load from its disk cache); at most once per process and ``what``.
-    A Ctrl-C during the block interrupts it (when it ends, if it lands inside LLVM)."""
-    if what in _ANNOUNCED:
+def announce_compilation(what: str, after: float = 3.0, dispatchers=()):
+    """Print one line to stderr if the block compiles: at once when ``dispatchers`` (numba
+    dispatchers the block calls) are not all in the disk cache, never when they are, else if
+    the block takes longer than ``after`` seconds; at most once per process and ``what``. A
+    slow load from the disk cache on a busy machine is not announced as a compilation. A
+    Ctrl-C during the block interrupts it (when it ends, if it lands inside LLVM)."""
+    cached = cached_on_disk(dispatchers) if dispatchers else None
+    if what in _ANNOUNCED or cached:
         with _interrupt_after():
             yield
         return
     _ANNOUNCED.add(what)
     timer = threading.Timer(
-        after,
+        0.0 if cached is False else after,
         lambda: print(
             f"mechsynth: compiling {what} (once; cached on disk for later runs) ...",
             file=sys.stderr,

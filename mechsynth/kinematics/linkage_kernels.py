@@ -153,7 +153,9 @@ class LinkageKernel:
         c, s = np.cos(phi), np.sin(phi)
         w, e = (1.0, 0.0) if speed is None else (float(speed[0]), float(speed[1]))
         if parallel:
-            with announce_compilation("a linkage kernel's threaded loop"):
+            with announce_compilation(
+                "a linkage kernel's threaded loop", dispatchers=[self.parallel]
+            ):
                 self.parallel(params, phi, c, s, w, e, out, flags)
         else:
             self.serial(params, phi, c, s, w, e, out, flags)
@@ -188,17 +190,17 @@ def _trace(linkage):
 
 def _stamp() -> str:
     """A digest of what the generated code calls: scalar_ops' code and numba's version."""
-    import marshal
-
     import numba
 
     from . import scalar_ops
+    from .compiled import code_digest
 
     h = hashlib.sha256(numba.__version__.encode())
     for name, v in sorted(vars(scalar_ops).items()):
         fn = getattr(v, "py_func", None)
         if fn is not None:
-            h.update(name.encode() + marshal.dumps(fn.__code__))
+            h.update(name.encode())
+            code_digest(h, fn.__code__)
     return h.hexdigest()[:16]
 
 
@@ -428,7 +430,9 @@ def linkage_kernel(linkage) -> LinkageKernel | None:
             _vectorize_wide_loops()
             module = _load(source)
             n_out = sum(size for *_, size in layout)
-            with announce_compilation(f"a kernel for {linkage.name}'s structure"):
+            with announce_compilation(
+                f"a kernel for {linkage.name}'s structure", dispatchers=[module.serial]
+            ):
                 grid = np.zeros(1)
                 module.serial(
                     np.ones((1, len(names))), grid, grid, grid, 1.0, 0.0, np.empty((n_out, 1, 1)),
