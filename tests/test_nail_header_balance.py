@@ -171,6 +171,8 @@ def test_robust_slider_mass_over_nail_sizes():
     small, big = r["cases"]
     for c in r["cases"]:
         assert c["own_mass"] == pytest.approx(c["check_mass"], abs=1e-4)
+        assert c["certified"]
+    assert r["robust"]["certified"] and r["compromise"]["certified"]
     # the worst peak is the largest nail's: the robust mass is its own optimum
     assert r["robust"]["mass"] == pytest.approx(big["own_mass"], abs=1e-4)
     assert r["robust"]["mass"] == pytest.approx(r["robust"]["check_mass"], abs=1e-4)
