@@ -10,11 +10,12 @@ exactly when the relation holds, which is the condition for the three points to 
 * :func:`proportional` -- ``F1(u) / F2(v) = F3(w) / F4(t)``: two Z blocks sharing their
   diagonal, the isopleths crossing on it;
 * :func:`determinant` -- any three rows ``(f, g, h)`` of one variable each, straight or curved
-  scales;
-* :func:`compound` -- blocks of the above put together through turning axes.
+  scales.
 
-Products become sums of logarithms in :func:`parallel` (``log=True`` per term). The functions
-``F`` must be given as numpy callables; values are SI.
+Compound charts chain blocks through unlabelled turning axes: the chained :func:`parallel`,
+:func:`proportional`, and :func:`~mechsynth.nomograms.fitting.fitted_chain` (a fitted block
+then a parallel chain). Products become sums of logarithms: give ``F = log`` (times the
+exponent) to :func:`parallel`. The functions ``F`` are numpy callables; values are SI.
 """
 
 from __future__ import annotations
