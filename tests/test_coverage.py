@@ -85,11 +85,20 @@ def test_views_of_one_declaration(tmp_path):
     assert "| eq. (3) m0' |" in c.markdown()
 
 
-def test_extreme_velocity_study_reports_its_coverage(tmp_path):
+def test_attach_puts_the_table_into_a_study_result(tmp_path):
+    from mechsynth.report import StudyResult
+
+    c = declared()["nail-header"]
+    r = c.attach(StudyResult("nail-header", "summary", {"x": 1}, [], []), tmp_path)
+    assert r.summary.startswith("summary\n\ncoverage of Paper 003")
+    assert r.data["coverage"]["study"] == "nail-header" and r.data["x"] == 1
+    assert r.files == [tmp_path / "nail_header_coverage.csv"] and r.files[0].is_file()
+    assert c.attach(StudyResult("n", "s", {}, [], [])).files == []
+
+
+def test_extreme_velocity_study_reports_its_coverage():
     from mechsynth.studies import run_study
 
-    r = run_study("extreme-velocity", out=tmp_path)
+    r = run_study("extreme-velocity")
     assert r.data["coverage"]["study"] == "extreme-velocity"
     assert "coverage of Paper 004" in r.summary
-    assert (tmp_path / "extreme_velocity_coverage.csv").is_file()
-    assert tmp_path / "extreme_velocity_coverage.csv" in r.files
