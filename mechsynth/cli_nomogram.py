@@ -108,8 +108,8 @@ def summary_text(nm) -> str:
                      f"({ps.length():.0f} mm on paper)")
     ex = nm.isopleth(**nm.example)
     lines.append("example isopleth: " + ", ".join(
-        f"{nm.scales[k].scale.title} = "
-        f"{number_text(float(ex[k]) / shown_unit(nm.scales[k].scale)[0], 5)}"
+        f"{nm.variable(k).title} = "
+        f"{number_text(float(ex[k]) / shown_unit(nm.variable(k))[0], 5)}"
         for k in (*nm.inputs, *nm.models) if k in ex
     ))
     for a in nm.accuracies.values():

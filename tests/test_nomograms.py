@@ -276,3 +276,55 @@ def test_save_writes_pdf_svg_png_and_refuses_other_suffixes(tmp_path):
     assert (tmp_path / "z.pdf").read_bytes()[:4] == b"%PDF"
     with pytest.raises(ms.MechanismError, match="must end in"):
         nm.save(tmp_path / "z.jpg")
+
+
+# ------------------------------------------------------------------------------ grids
+def _lever_rule():
+    from mechsynth.nomograms import Grid, Nomogram, Scale
+    from mechsynth.nomograms.scales import homogeneous
+
+    # the lever rule of mixing, Tm = (T1 + r T2) / (1 + r): T1 on x = 0, T2 on x = 1 and the
+    # grid of (r, Tm) at (r / (1 + r), Tm) -- lines of constant r vertical, of constant Tm
+    # horizontal; the line T1-T2 meets x = r/(1+r) at height Tm
+    T1 = Scale("T1", lambda t: homogeneous(0 * t, t), (0, 100))
+    T2 = Scale("T2", lambda t: homogeneous(1 + 0 * t, t), (0, 100))
+    r = Scale("r", None, (0.1, 10), title="m2 / m1", spacing="log")
+    Tm = Scale("Tm", None, (0, 100), title="mixed")
+    grid = Grid("mix", (r, Tm), lambda r, t: homogeneous(r / (1 + r), t))
+    return Nomogram([T1, T2, grid], [("T1", "T2", "mix")], "Tm",
+                    lambda T1, T2, r: (T1 + r * T2) / (1 + r), title="Mixing", search=False,
+                    example={"T1": 20.0, "T2": 80.0, "r": 2.0})
+
+
+def test_grid_scale_reads_either_of_its_variables():
+    nm = _lever_rule()
+    assert nm.inputs == ("T1", "T2", "r")
+    assert nm.read(T1=20, T2=80, r=2.0) == pytest.approx(60.0, abs=1e-12)
+    assert nm.read(T1=20, T2=80, Tm=60.0) == pytest.approx(2.0, rel=1e-12)  # along Tm = 60
+    assert nm.read(T2=80, r=2.0, Tm=60.0) == pytest.approx(20.0, abs=1e-10)
+    acc = nm.accuracy
+    assert acc.max_error < 1e-11 and acc.max_mm < 1e-9 and acc.misses == 0
+    p = nm.grids["mix"].position(np.array([0.1, 10.0]), np.array([0.0, 100.0]))
+    x0, y0, x1, y1 = nm.paper.box
+    assert p[0, 1] == pytest.approx(y0) and p[1, 1] == pytest.approx(y1)
+    assert nm.variable("r").title == "m2 / m1" and nm.to_dict()["grids"]["mix"]["variables"] == [
+        "r", "Tm"]
+
+
+def test_grid_sheet_is_clean_and_its_variables_unique():
+    from mechsynth.nomograms import Grid, Nomogram, Scale
+    from mechsynth.nomograms.scales import homogeneous
+
+    fig = _lever_rule().draw()
+    assert layout_problems(fig) == []
+    texts = [t.get_text() for t in fig.axes[0].texts]
+    assert "m2 / m1" in texts and "mixed" in texts and "10" in texts
+    a = Scale("a", None, (0, 1))
+    with pytest.raises(ms.MechanismError, match="two differently named"):
+        Grid("g", (a, a), lambda x, y: homogeneous(x, y))
+    T = Scale("a", lambda t: homogeneous(0 * t, t), (0, 1))
+    g = Grid("g", (Scale("a", None, (0, 1)), Scale("b", None, (0, 1))),
+             lambda x, y: homogeneous(x, y))
+    with pytest.raises(ms.MechanismError, match="appears twice"):
+        Nomogram([T, g, Scale("c", lambda t: homogeneous(1 + 0 * t, t), (0, 1))],
+                 [("a", "g", "c")], "c")

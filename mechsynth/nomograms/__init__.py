@@ -15,7 +15,7 @@ relation (:mod:`~mechsynth.nomograms.user`). See ``docs/nomograms.md``.
 from .forms import Var, determinant, parallel, proportional, z_chart
 from .layout import PAPERS, Paper
 from .nomogram import Accuracy, Nomogram, PlacedScale
-from .scales import Scale
+from .scales import Grid, Scale
 from .user import Product, Sum, nomogram
 
 __all__ = [
@@ -26,6 +26,7 @@ __all__ = [
     "PlacedScale",
     "Accuracy",
     "Scale",
+    "Grid",
     "Var",
     "Paper",
     "PAPERS",

@@ -111,18 +111,24 @@ def fit_page(scales, box, corners=None, search="full", samples: int = 64) -> np.
         product of the shortest steps; ``"moduli"``: only ``q = 0`` (vertical supports stay
         vertical and straight scales keep their graduation: the moduli change); False: none.
     """
-    base = []
+    from .scales import base_curves
+
+    base, labelled = [], []
     for s in scales:
-        xyz = s.base(s.sample(samples))
-        h = xyz[:, 2]
+        curves = base_curves(s, samples)
+        h = np.concatenate([c[:, 2] for c in curves])
+        xyz = np.concatenate(curves)
+        where = f"scale {s.name}" + (f" inside its domain {s.domain}" if hasattr(s, "domain")
+                                     else " inside its domains")
         if not np.all(np.isfinite(xyz)) or np.any(np.abs(h) < 1e-12 * np.abs(xyz).max()):
-            raise MechanismError(f"scale {s.name} goes to infinity inside its domain {s.domain}")
+            raise MechanismError(f"{where.replace(' inside', ' goes to infinity inside')}")
         if np.any(h > 0) and np.any(h < 0):
             raise MechanismError(
-                f"scale {s.name} passes through infinity inside its domain {s.domain}"
+                f"{where.replace(' inside', ' passes through infinity inside')}"
             )
-        base.append(xyz)
-    labelled = [i for i, s in enumerate(scales) if not s.turning]
+        if not s.turning:
+            labelled += range(len(base), len(base) + len(curves))
+        base += curves
     T0 = np.eye(3)
     if corners is not None:
         by_name = {s.name: s for s in scales}

@@ -20,9 +20,9 @@ import numpy as np
 from ..errors import MechanismError
 from .layout import Paper, apply, fit_page
 from .layout import paper as paper_of
-from .scales import Scale, shown_unit
+from .scales import Grid, Scale, shown_unit
 
-__all__ = ["Nomogram", "PlacedScale", "Accuracy"]
+__all__ = ["Nomogram", "PlacedScale", "PlacedGrid", "Accuracy"]
 
 
 @dataclass(frozen=True)
@@ -75,6 +75,26 @@ class PlacedScale:
         """Length of the drawn scale on the page, mm."""
         p = self.position(self.scale.sample(401))
         return float(np.hypot(*np.diff(p, axis=0).T).sum())
+
+
+@dataclass(frozen=True)
+class PlacedGrid:
+    """A grid (two-variable) scale on the page: ``position(a, b) -> (..., 2)`` mm."""
+
+    grid: Grid
+    transform: np.ndarray = field(repr=False)
+
+    @property
+    def name(self) -> str:
+        return self.grid.name
+
+    @property
+    def variables(self) -> tuple[str, str]:
+        return self.grid.variables
+
+    def position(self, a, b) -> np.ndarray:
+        """Page points (mm) of the value pairs ``(a, b)`` (SI, broadcast)."""
+        return apply(self.transform, self.grid.base(a, b))
 
 
 @dataclass(frozen=True)
@@ -181,8 +201,16 @@ class Nomogram:
                 raise MechanismError(
                     f"nomogram: each block names three of the scales {sorted(known)}, got {b}"
                 )
-        if output not in known:
-            raise MechanismError(f"nomogram: output {output!r} is none of {sorted(known)}")
+        # every variable: a scale's own, or one of a grid's two
+        self._vars: dict[str, Scale] = {}
+        for item in scales:
+            for axis in item.axes if isinstance(item, Grid) else (item,):
+                if axis.name in self._vars or (isinstance(item, Grid) and axis.name in known):
+                    raise MechanismError(f"nomogram: variable {axis.name!r} appears twice")
+                self._vars[axis.name] = axis
+        labelled = [n for n, v in self._vars.items() if not v.turning]
+        if output not in labelled:
+            raise MechanismError(f"nomogram: output {output!r} is none of {labelled}")
         self.paper: Paper = paper_of(paper)
         self.blocks = tuple(tuple(b) for b in blocks)
         self.output = output
@@ -195,16 +223,29 @@ class Nomogram:
         self.notes = tuple(notes)
         self.fit = dict(fit or {})
         self.transform = fit_page(scales, self.paper.box, corners=corners, search=search)
-        self.scales = {s.name: PlacedScale(s, self.transform) for s in scales}
+        self.scales = {
+            s.name: PlacedScale(s, self.transform) for s in scales if isinstance(s, Scale)
+        }
+        self.grids = {
+            g.name: PlacedGrid(g, self.transform) for g in scales if isinstance(g, Grid)
+        }
         self.inputs = tuple(inputs) if inputs is not None else tuple(
-            n for n in names if n != output and not self.scales[n].scale.turning
+            n for n in labelled if n != output
         )
-        if not set(self.inputs) <= known - {output}:
-            raise MechanismError(f"nomogram: inputs {self.inputs} must be scales other than "
+        if not set(self.inputs) <= set(labelled) - {output}:
+            raise MechanismError(f"nomogram: inputs {self.inputs} must be variables other than "
                                  f"the output {output!r}")
         self.example = dict(example) if example else {
-            n: float(self.scales[n].scale.from_param(0.5)) for n in self.inputs
+            n: float(self._vars[n].from_param(0.5)) for n in self.inputs
         }
+
+    def variable(self, name: str) -> Scale:
+        """The :class:`Scale` describing the variable ``name`` (domain, title, unit), a grid's
+        variables included."""
+        if name not in self._vars:
+            raise MechanismError(f"nomogram: no variable {name!r}; variables: "
+                                 f"{', '.join(self._vars)}")
+        return self._vars[name]
 
     def __repr__(self) -> str:
         return (
@@ -221,7 +262,7 @@ class Nomogram:
         chart's further outputs are in :meth:`isopleth`. Raises :class:`MechanismError` when a
         value lies off its scale or the isopleth misses the scale of the unknown.
         """
-        labelled = [n for n, s in self.scales.items() if not s.scale.turning]
+        labelled = [n for n, v in self._vars.items() if not v.turning]
         extra = sorted(set(known) - set(labelled))
         if set(self.inputs) <= set(known):
             unknown = [self.output] if self.output not in known else []
@@ -235,7 +276,7 @@ class Nomogram:
             )
         for name, v in known.items():
             arr = np.asarray(v, dtype=float)
-            lo, hi = self.scales[name].domain
+            lo, hi = self._vars[name].domain
             tol = 1e-9 * (hi - lo)
             if not np.all(np.isfinite(arr)) or np.any(arr < lo - tol) or np.any(arr > hi + tol):
                 raise MechanismError(
@@ -246,7 +287,7 @@ class Nomogram:
         if np.any(np.isnan(out)):
             raise MechanismError(
                 f"read: the isopleth misses the scale of {unknown[0]} for the values given "
-                f"(it lies beyond the drawn range {self.scales[unknown[0]].domain})"
+                f"(it lies beyond the drawn range {self._vars[unknown[0]].domain})"
             )
         return float(out) if out.ndim == 0 else out
 
@@ -255,16 +296,29 @@ class Nomogram:
         NaN where an isopleth misses a scale."""
         return self._solve(known)
 
+    def _members(self, member) -> tuple[str, ...]:
+        g = self.grids.get(member)
+        return g.variables if g is not None else (member,)
+
+    def point(self, member, values) -> np.ndarray:
+        """Page points (mm) of a block member (a scale or a grid) for ``values`` by variable."""
+        g = self.grids.get(member)
+        if g is not None:
+            return g.position(values[g.variables[0]], values[g.variables[1]])
+        return self.scales[member].position(values[member])
+
     def _solve(self, known) -> dict[str, np.ndarray]:
         arrays = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in known.values()))
         values = dict(zip(known, arrays, strict=True))
         pending = list(self.blocks)
         while pending:
             for b in pending:
-                missing = [n for n in b if n not in values]
+                missing = [v for m in b for v in self._members(m) if v not in values]
                 if len(missing) == 1:
-                    a, c = (n for n in b if n != missing[0])
-                    values[missing[0]] = self._cross(values[a], a, values[c], c, missing[0])
+                    var = missing[0]
+                    um = next(m for m in b if var in self._members(m))
+                    a, c = (m for m in b if m != um)
+                    values[var] = self._cross(values, a, c, um, var)
                     pending.remove(b)
                     break
                 if not missing:
@@ -274,18 +328,33 @@ class Nomogram:
                 break
         return values
 
-    def _cross(self, va, a, vc, c, unknown, samples: int = 400):
-        """Where the lines through the points of ``va`` on ``a`` and ``vc`` on ``c`` cross the
-        scale ``unknown``: bracketed on ``samples`` points, refined by bisection. NaN where
-        they do not cross it."""
-        shape = np.shape(va)
-        pa = self.scales[a].position(np.ravel(va)).reshape(-1, 2)
-        pc = self.scales[c].position(np.ravel(vc)).reshape(-1, 2)
-        sc = self.scales[unknown]
+    def _cross(self, values, a, c, member, var, samples: int = 400):
+        """Where the lines through the points of the block members ``a`` and ``c`` cross the
+        curve of ``var`` on ``member`` (a scale, or a grid with its other variable known):
+        bracketed on ``samples`` points, refined by bisection. NaN where they do not cross
+        it."""
+        scale = self._vars[var]
+        shape = np.shape(next(iter(values.values())))
+        pa = self.point(a, values).reshape(-1, 2)
+        pc = self.point(c, values).reshape(-1, 2)
+        grid = self.grids.get(member)
+        if grid is None:
+            ps = self.scales[member]
+
+            def curve(t):
+                return ps.position(scale.from_param(t))
+        else:
+            i = grid.variables.index(var)
+            other = np.broadcast_to(values[grid.variables[1 - i]], shape).reshape(-1)[:, None]
+
+            def curve(t):
+                v = scale.from_param(t)
+                return grid.position(v, other) if i == 0 else grid.position(other, v)
+
         d = pc - pa
 
         def side(t):  # t: (n, m) parameters -> cross product sign function
-            p = sc.position(sc.scale.from_param(t))
+            p = curve(t)
             return d[:, None, 0] * (p[..., 1] - pa[:, None, 1]) - d[:, None, 1] * (
                 p[..., 0] - pa[:, None, 0]
             )
@@ -310,7 +379,7 @@ class Nomogram:
             same = np.signbit(gm) == np.signbit(glo)
             lo, glo = np.where(same, mid, lo), np.where(same, gm, glo)
             hi = np.where(same, hi, mid)
-        out = np.where(found, sc.scale.from_param(0.5 * (lo + hi)), np.nan)
+        out = np.where(found, scale.from_param(0.5 * (lo + hi)), np.nan)
         return out.reshape(shape)
 
     # ------------------------------------------------------------------ accuracy
@@ -328,19 +397,21 @@ class Nomogram:
         corners = np.array(np.meshgrid(*([[0.0, 1.0]] * len(inputs)), indexing="ij"))
         corners = corners.reshape(len(inputs), -1)
         for i, name in enumerate(inputs):
-            s = self.scales[name].scale
             t = np.concatenate([rng.uniform(0.0, 1.0, n), corners[i]])
-            cols[name] = s.from_param(t)
+            cols[name] = self._vars[name].from_param(t)
         truth = np.asarray(self.models[variable](**cols), dtype=float)
         read = self._solve(cols)[variable]
         miss = np.isnan(read)
-        ps = self.scales[variable]
-        factor, unit = shown_unit(ps.scale)
+        scale = self._vars[variable]
+        factor, unit = shown_unit(scale)
         ok = ~miss
         err = np.abs(read[ok] - truth[ok]) / factor
-        span = ps.domain[1] - ps.domain[0]
+        span = scale.domain[1] - scale.domain[0]
         rel = np.abs(read[ok] - truth[ok]) / np.maximum(np.abs(truth[ok]), 1e-9 * span)
-        mm = np.hypot(*(ps.position(read[ok]) - ps.position(truth[ok])).T)
+        member = next(m for b in self.blocks for m in b if variable in self._members(m))
+        here = {k: v[ok] for k, v in cols.items()}
+        mm = np.hypot(*(self.point(member, {**here, variable: read[ok]})
+                        - self.point(member, {**here, variable: truth[ok]})).T)
         if not ok.any():
             raise MechanismError(f"check: every isopleth missed the scale of {variable}")
         k = int(np.argmax(err))
@@ -358,7 +429,7 @@ class Nomogram:
             rms_mm=float(np.sqrt(np.mean(mm**2))),
             worst=worst,
             misses=int(miss.sum()),
-            title=ps.scale.title,
+            title=scale.title,
         )
 
     @functools.cached_property
@@ -408,6 +479,12 @@ class Nomogram:
             "output": self.output,
             "inputs": list(self.inputs),
             "scales": scales,
+            "grids": {
+                name: {"variables": list(g.variables),
+                       "titles": [a.title for a in g.grid.axes],
+                       "domains": [list(a.domain) for a in g.grid.axes]}
+                for name, g in self.grids.items()
+            },
             "blocks": [list(b) for b in self.blocks],
             "example": self.example,
             "notes": list(self.notes),

@@ -38,7 +38,7 @@ def _side(nm, name, pts):
         ps.position(ps.scale.sample(41)).mean(axis=0)
         for k, ps in nm.scales.items()
         if k != name
-    ]
+    ] + [_grid_points(g).mean(axis=0) for g in nm.grids.values()]
     away = mid - np.mean(others, axis=0)
     if abs(float(n @ away)) < 1e-9 * (np.hypot(*n) * np.hypot(*away) + 1e-300):
         return 1.0 if n[0] >= 0 else -1.0
@@ -132,6 +132,51 @@ def _stagger_titles(fig, ax):
         placed.append(t.get_window_extent(r))
 
 
+def _grid_points(g, n=21):
+    a, b = (ax.sample(n) for ax in g.grid.axes)
+    return g.position(a[:, None], b[None, :]).reshape(-1, 2)
+
+
+def _draw_grid(ax, nm, g, ink):
+    """A grid scale: for each of its variables, the curves on which it is constant at the
+    ticks chosen along the grid's edge, labelled at their upper ends, its title beyond."""
+    for i, axis in enumerate(g.grid.axes):
+        other = g.grid.axes[1 - i]
+        olo, ohi = other.domain
+
+        def at(v, o, i=i):
+            return g.position(v, o) if i == 0 else g.position(o, v)
+
+        factor, _ = shown_unit(axis)
+        lo, hi = axis.domain
+        tk = ticks(lambda v, olo=olo, at=at: at(v, olo), lo, hi, factor)
+        span = other.sample(101)
+        lines = list(tk.labelled) + list(tk.major)
+        labelled = set(tk.labelled.tolist())
+        for v in lines:  # labelled values in ink, the others light
+            curve = at(np.full(101, v * factor), span)
+            main = v in labelled
+            ax.plot(*curve.T, color=ink if main else "0.72", lw=0.55 if main else 0.3,
+                    solid_capstyle="butt")
+        ends = []
+        for v, text in zip(tk.labelled, tk.texts, strict=True):
+            end, near = at(v * factor, ohi), at(v * factor, ohi - 0.02 * (ohi - olo))
+            d = (end - near) / max(np.hypot(*(end - near)), 1e-12)
+            ha, va = _anchor(d)
+            t = ax.text(*(end + 1.5 * d), text, fontsize=7, ha=ha, va=va, color=ink)
+            t.set_gid(TICK_LABEL)
+            ends.append((end, d))
+        if ends:
+            end, d = max(ends, key=lambda e: (e[0][1], e[0][0]))
+            if abs(d[0]) > abs(d[1]):  # labels beside the curves' ends: the title above them
+                at, ha, va = end + np.array([0.0, 4.5]), "right" if d[0] > 0 else "left", "bottom"
+            else:  # labels above (below) the ends: the title beyond them
+                at, (ha, va) = end + 9.0 * d, _anchor(d)
+            t = ax.text(*at, axis.label(), fontsize=8.5, fontweight="bold", ha=ha, va=va,
+                        color=ink)
+            t.set_gid(SCALE_TITLE)
+
+
 def _prune_tick_labels(fig, pad=0.3):
     """Remove tick labels that touch another text or leave the sheet (finest first)."""
     from matplotlib.text import Text
@@ -169,10 +214,10 @@ def _margin_text(nm, example_values, accuracy):
     lines.append(how)
     if example_values is not None:
         known = ", ".join(
-            f"{nm.scales[k].scale.title} = {_fmt(nm, k, example_values[k])}" for k in nm.inputs
+            f"{nm.variable(k).title} = {_fmt(nm, k, example_values[k])}" for k in nm.inputs
         )
         out = nm.output
-        text = f"Example (dashed): {known} -> {nm.scales[out].scale.title} = " \
+        text = f"Example (dashed): {known} -> {nm.variable(out).title} = " \
                f"{_fmt(nm, out, example_values[out])}"
         if nm.model is not None:
             truth = float(nm.model(**{k: example_values[k] for k in nm.inputs}))
@@ -180,7 +225,7 @@ def _margin_text(nm, example_values, accuracy):
         for k, m in nm.models.items():
             if k != out:
                 truth = float(m(**{i: example_values[i] for i in nm.inputs}))
-                text += (f", {nm.scales[k].scale.title} = {_fmt(nm, k, example_values[k])} "
+                text += (f", {nm.variable(k).title} = {_fmt(nm, k, example_values[k])} "
                          f"(model: {_fmt(nm, k, truth)})")
         lines.append(text + ".")
     for a in accuracy or ():
@@ -195,7 +240,7 @@ def _margin_text(nm, example_values, accuracy):
 
 
 def _fmt(nm, name, value):
-    factor, unit = shown_unit(nm.scales[name].scale)
+    factor, unit = shown_unit(nm.variable(name))
     return number_text(value / factor) + (f" {unit}" if unit else "")
 
 
@@ -217,6 +262,8 @@ def draw(nm, example=None, accuracy: bool = True):
         ink = PALETTE[0]
         for name in nm.scales:
             _draw_scale(ax, nm, name, ink)
+        for g in nm.grids.values():
+            _draw_grid(ax, nm, g, ink)
         values = None
         example = dict(nm.example if example is None else example)
         if example:
@@ -226,7 +273,7 @@ def draw(nm, example=None, accuracy: bool = True):
                     f"the example isopleth {example} misses a scale: {values}"
                 )
             for b in nm.blocks:
-                pts = np.array([nm.scales[k].position(values[k]) for k in b])
+                pts = np.array([nm.point(k, values) for k in b])
                 order = np.argsort(pts[:, 0] + 1e-6 * pts[:, 1])
                 pts = pts[order]
                 ax.plot(*pts[[0, -1]].T, ls=(0, (5, 2.5)), color=PALETTE[5], lw=0.9)

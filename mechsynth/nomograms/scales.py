@@ -18,7 +18,7 @@ import numpy as np
 from .. import display
 from ..errors import MechanismError
 
-__all__ = ["Scale", "shown_unit", "homogeneous"]
+__all__ = ["Scale", "Grid", "shown_unit", "homogeneous", "base_curves"]
 
 
 def homogeneous(f, g, h=1.0):
@@ -129,3 +129,59 @@ def shown_unit(scale: Scale) -> tuple[float, str]:
         return 1.0, ""
     du = display.current()
     return du.factor(scale.unit), du.unit(scale.unit)
+
+
+@dataclass(frozen=True)
+class Grid:
+    """A two-variable (grid) scale: a point of the plane for each pair of values, drawn as the
+    two families of curves on which one variable is constant.
+
+    Parameters
+    ----------
+    name : the grid's name in the blocks.
+    axes : two :class:`Scale` objects describing its variables (name, domain, title, unit,
+        spacing, shown units); their ``xyz`` is not used.
+    xyz : ``(a, b) -> (n, 3)`` homogeneous base coordinates of the value pairs (broadcast).
+    """
+
+    name: str
+    axes: tuple[Scale, Scale]
+    xyz: Callable[[np.ndarray, np.ndarray], np.ndarray]
+    turning: bool = False
+
+    def __post_init__(self):
+        if len(self.axes) != 2 or self.axes[0].name == self.axes[1].name:
+            raise MechanismError(f"grid {self.name}: give two differently named variables")
+
+    @property
+    def variables(self) -> tuple[str, str]:
+        return (self.axes[0].name, self.axes[1].name)
+
+    def base(self, a, b) -> np.ndarray:
+        """Homogeneous base coordinates ``(..., 3)`` of the value pairs (SI, broadcast)."""
+        a, b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(b, dtype=float))
+        out = np.asarray(self.xyz(a.ravel(), b.ravel()), dtype=float)
+        if out.shape != (a.size, 3):
+            raise MechanismError(
+                f"grid {self.name}: its map must give (n, 3) homogeneous rows, got {out.shape}"
+            )
+        return out.reshape(a.shape + (3,))
+
+    def curves(self, n: int = 64, lines: int = 5) -> list[np.ndarray]:
+        """Base points of ``lines`` curves of each family (the edges included), ``(n, 3)``
+        each: what the layout keeps on the page."""
+        t = np.linspace(0.0, 1.0, n)
+        out = []
+        for k in np.linspace(0.0, 1.0, lines):
+            a, b = self.axes[0].from_param(t), self.axes[1].from_param(np.full(n, k))
+            out.append(self.base(a, b))
+            a, b = self.axes[0].from_param(np.full(n, k)), self.axes[1].from_param(t)
+            out.append(self.base(a, b))
+        return out
+
+
+def base_curves(item, n: int = 64) -> list[np.ndarray]:
+    """The base points a layout must place for a :class:`Scale` or a :class:`Grid`."""
+    if isinstance(item, Grid):
+        return item.curves(n)
+    return [item.base(item.sample(n))]
