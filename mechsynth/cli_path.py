@@ -41,6 +41,15 @@ def add_parser(sub) -> None:
         metavar="ANGLE",
         help="smallest transmission angle over the turn, e.g. 30deg (default none)",
     )
+    p.add_argument("--constraint", action="append", default=[], metavar="'MEASURE OP VALUE'",
+                   help="a measure of the library bounded over the turn, e.g. "
+                   "'max_pressure_angle <= 40 deg' or 'peak_acceleration(P) <= 50' (the "
+                   "four-bar's tracing point is P); repeatable")  # fmt: skip
+    p.add_argument(
+        "--speed",
+        metavar="SPEED",
+        help="crank speed of the measures, e.g. '600 rpm' (default: analogs)",
+    )
     p.add_argument(
         "--objective",
         choices=("squares", "max"),
@@ -159,6 +168,10 @@ def run(args) -> int:
     if str(args.min_transmission).strip().lower() != "none":
         mu = parse_quantity(args.min_transmission, "--min-transmission", "rad")
     mechanism, trace, variables, tables = _mechanism(args.mechanism)
+    from .synthesis.problem_file import parse_constraint
+
+    constraints = [parse_constraint(c) for c in args.constraint]
+    speed = None if args.speed is None else parse_quantity(args.speed, "--speed", "rad/s")
     with quiet(args.quiet or args.json):
         res = path_generation(
             targets,
@@ -172,6 +185,8 @@ def run(args) -> int:
             objective=args.objective,
             starts=args.starts,
             time_limit=args.time_limit,
+            constraints=constraints,
+            speed=speed,
         )
     data = res.as_dict()
     files = []

@@ -338,3 +338,45 @@ def test_bad_linkage_variables():
     with pytest.raises(MechanismError, match="no point 'Q'"):
         ms.path_generation([(0, 0), (1, 0), (1, 1)], mechanism=_six_bar(), trace="Q",
                            variables={"CF": (0.5, 1)})  # fmt: skip
+
+
+def test_pressure_angle_measure_matches_the_transmission_constraint():
+    """A four-bar's largest pressure angle is 90 deg minus its smallest transmission angle: the
+    library's measure bounded at 50 deg gives the design that min_transmission=40 deg gives
+    (3.44453e-4 on the 12-point path, the front's point at 40 deg)."""
+    from mechsynth import objectives as ob
+
+    case = CASES["bulatovic-12"]
+    a = ms.path_generation(case.targets, starts=4, min_transmission=ms.deg(40))
+    b = ms.path_generation(case.targets, starts=4,
+                           constraints=[ob.max_pressure_angle() <= ms.deg(50)])  # fmt: skip
+    assert a.error == pytest.approx(3.44453e-4, rel=1e-5)
+    assert b.error == pytest.approx(a.error, rel=1e-5)  # its bound sits 1e-7 inside
+    pa = ob.max_pressure_angle().evaluate(b.design, ms.cycle(7200))
+    assert pa <= ms.deg(50) * (1 + 1e-6)
+
+
+@pytest.mark.slow
+def test_peak_acceleration_constraint_is_active_and_honoured():
+    from mechsynth import objectives as ob
+
+    case = CASES["bulatovic-12"]
+    free = ms.path_generation(case.targets, starts=4)
+    acc = ob.peak_acceleration("P")
+    peak = acc.evaluate(free.design, ms.cycle(3600), speed=10.0)
+    r = ms.path_generation(case.targets, starts=8, constraints=[acc <= 0.95 * peak], speed=10.0)
+    assert r.success and r.error > free.error
+    got = acc.evaluate(r.design, ms.cycle(7200), speed=10.0)
+    assert got <= 0.95 * peak * (1 + 1e-6)
+    assert got == pytest.approx(0.95 * peak, rel=1e-4)  # active
+
+
+@pytest.mark.parametrize("op", ["mean", "eq"])
+def test_unsupported_measure_constraints_fail_clearly(op):
+    from mechsynth import objectives as ob
+
+    c = (ob.max_pressure_angle() == 0.5) if op == "eq" else (
+        ob.CycleMeasure("m", lambda mech, mo: mo.pressure_angle, "mean") <= 1.0
+    )  # fmt: skip
+    with pytest.raises(MechanismError, match="not accepted in path generation"):
+        ms.path_generation([(0, 0), (1, 0), (1, 1)], constraints=[c])

@@ -168,3 +168,14 @@ def test_linkage_file_without_variables(tmp_path, capsys):
     assert "[variables]" in capsys.readouterr().err
     assert main(["synthesize", "path", str(f), "--mechanism", "cam"]) == 1
     assert "--mechanism must be" in capsys.readouterr().err
+
+
+def test_measure_constraint_on_the_command_line(tmp_path, capsys):
+    f = _csv(tmp_path / "t.csv", CASES["bulatovic-12"].targets)
+    code = main(["synthesize", "path", str(f), "--constraint", "max_pressure_angle <= 50 deg",
+                 "--starts", "4", "--json"])  # fmt: skip
+    assert code == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["best"]["transmission_min"] >= np.deg2rad(40) - 1e-6
+    assert main(["synthesize", "path", str(f), "--constraint", "stroke <= 3 deg"]) == 1
+    assert "mechsynth: error:" in capsys.readouterr().err

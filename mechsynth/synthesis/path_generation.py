@@ -189,18 +189,7 @@ class PathSolution:
         """The design placed in the plane as a :class:`~mechsynth.Linkage`: ground points O1
         and O2, crank O1A (its ``phase`` is the ground angle, so the linkage's crank angle is
         this solution's), dyad A-B-O2 and the tracing point P on the coupler (its output)."""
-        from ..kinematics.linkage import Linkage
-
-        c, s = np.cos(self.angle), np.sin(self.angle)
-        o2 = (self.x0 + self.ground * c, self.y0 + self.ground * s)
-        return (
-            Linkage(ground={"O1": (self.x0, self.y0), "O2": o2}, name="path generator")
-            .crank("A", about="O1", length=self.crank, phase=self.angle)
-            .rrr("B", ("A", self.coupler), ("O2", self.rocker),
-                 branch=1 if self.branch == "open" else -1)
-            .attach("P", on=("A", "B"), along=self.u, left=self.v)
-            .with_output("P")
-        )  # fmt: skip
+        return placed_linkage({k: getattr(self, k) for k in NAMES}, self.branch)
 
     def trace(self, phi) -> np.ndarray:
         """Coupler-point positions ``(len(phi), 2)`` (m) at crank angles ``phi`` (rad)."""
@@ -230,6 +219,24 @@ class PathSolution:
             note=self.note,
         )
         return d
+
+
+def placed_linkage(vals, branch="open"):
+    """The four-bar ``vals`` (``{name: value}`` of :data:`NAMES`; numbers or CasADi symbols)
+    placed in the plane as a Linkage with the tracing point ``"P"``."""
+    from ..kinematics import ops
+    from ..kinematics.linkage import Linkage
+
+    c, s = ops.cos(vals["angle"]), ops.sin(vals["angle"])
+    x0, y0, g = vals["x0"], vals["y0"], vals["ground"]
+    return (
+        Linkage(ground={"O1": (x0, y0), "O2": (x0 + g * c, y0 + g * s)}, name="path generator")
+        .crank("A", about="O1", length=vals["crank"], phase=vals["angle"])
+        .rrr("B", ("A", vals["coupler"]), ("O2", vals["rocker"]),
+             branch=1 if branch == "open" else -1)
+        .attach("P", on=("A", "B"), along=vals["u"], left=vals["v"])
+        .with_output("P")
+    )  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -379,7 +386,8 @@ _IPOPT = {
 
 
 @functools.lru_cache(maxsize=32)
-def _nlp(n: int, timing: str, objective: str, sigma: int):
+def _nlp(n: int, timing: str, objective: str, sigma: int, constraints=(), speed=None,
+         centre=(0.0, 0.0), scale=1.0):  # fmt: skip
     """The CasADi NLP (cached per shape): variables ``NAMES`` + crank angles (+ epigraph),
     parameters: targets (2n, x y interleaved), cos of the smallest transmission angle, margin
     of the full turn, the prescribed angles (n). Returns ``(solver, rows, nz, fun)``: the
@@ -390,14 +398,15 @@ def _nlp(n: int, timing: str, objective: str, sigma: int):
     from ..kinematics import ops
     from ..kinematics.blocks import coupler_point
     from ..kinematics.four_bar import FourBar, four_bar_chain
+    from .path_measures import EXTRA, GRID
 
     nphi = n if timing == "free" else 1
     nz = len(NAMES) + nphi + (1 if objective == "max" else 0)
     z = ca.SX.sym("z", nz)
-    p = ca.SX.sym("p", 3 * n + 2)
+    p = ca.SX.sym("p", 3 * n + 2 + (GRID + EXTRA if constraints else 0))
     crank, coupler, rocker, ground, u, v, x0, y0, ang = (z[i] for i in range(len(NAMES)))
     k = len(NAMES)
-    phi = z[k : k + n] if timing == "free" else z[k] + p[2 * n + 2 :]
+    phi = z[k : k + n] if timing == "free" else z[k] + p[2 * n + 2 : 3 * n + 2]
     a, _, cpl, _ = four_bar_chain(ops.cos(phi), ops.sin(phi), crank, coupler, rocker, ground, sigma)
     q = coupler_point(a, cpl, u, v)
     ca_, sa = ops.cos(ang), ops.sin(ang)
@@ -419,6 +428,17 @@ def _nlp(n: int, timing: str, objective: str, sigma: int):
         g += [phi[i + 1] - phi[i] for i in range(n - 1)]
         rows.append("order: within one turn")
         g.append(2.0 * np.pi - (phi[n - 1] - phi[0]))
+    if constraints:  # the library's measures, on the placed linkage in SI units
+        from .path_measures import constraint_rows
+
+        vals = {k: z[i] * scale for i, k in enumerate(NAMES)}
+        vals["x0"], vals["y0"] = centre[0] + vals["x0"], centre[1] + vals["y0"]
+        vals["angle"] = z[NAMES.index("angle")]
+        design = placed_linkage(vals, "open" if sigma > 0 else "crossed")
+        extra = constraint_rows(constraints, design, speed, p[3 * n + 2 :])
+        count = sum(int(e.numel()) if hasattr(e, "numel") else 1 for e in extra)
+        rows += [f"measure row {i + 1}" for i in range(count)]
+        g += extra
     if objective == "max":
         t = z[nz - 1]
         rows += [f"epigraph {i + 1}" for i in range(n)]
@@ -582,6 +602,8 @@ def path_generation(
     trace: str | None = None,
     variables: dict | None = None,
     seed: int = 0,
+    constraints=None,
+    speed: float | None = None,
 ) -> PathResult:
     """A four-bar whose coupler point passes as near as possible to ``targets``.
 
@@ -606,6 +628,10 @@ def path_generation(
     time_limit : stop starting new solves after this many seconds (the best so far is kept).
     feasibility_margin : relative margin of the full-turn conditions (as ``FourBar``'s).
     progress : a progress bar (None: on a terminal only).
+    constraints : the library's measures bounded, e.g. ``[ms.objectives.max_pressure_angle()
+        <= ms.deg(40), ms.objectives.peak_acceleration("P") <= 50.0]`` (the tracing point is
+        ``"P"`` on a four-bar; see :mod:`~mechsynth.synthesis.path_measures`), at ``speed``
+        (rad/s; None: crank-angle analogs).
     mechanism : ``"four-bar"`` (the default: its coupler point, placed anywhere in the plane),
         ``"slider-crank"`` (a point on the rod of a slider-crank whose guide is anywhere:
         :func:`~mechsynth.synthesis.path_linkage.slider_crank_template`), or any
@@ -621,6 +647,11 @@ def path_generation(
         the best design found so far (status ``"interrupted"``).
     """
     t_start = time.perf_counter()
+    from .path_measures import check_types
+
+    measures = check_types(constraints)
+    if speed is not None:
+        speed = validate.number("speed", speed, "rad/s")
     general = not isinstance(mechanism, str)
     if not general:
         validate.option("mechanism", mechanism, ("four-bar", "slider-crank"))
@@ -673,6 +704,8 @@ def path_generation(
             seed,
             closed,
             t_start,
+            measures,
+            speed,
         )
     if trace is not None or variables is not None:
         raise MechanismError(
@@ -695,6 +728,7 @@ def path_generation(
             nb[name] = (lo, hi)
 
     from .path_atlas import seed
+    from .path_measures import GRID, base_angles, check_constraints, worst_angles
 
     seeds = seed(tn, count=starts, min_mu=max(0.0, min_mu - np.deg2rad(10.0)))
     nphi = n if timing == "free" else 1
@@ -709,7 +743,11 @@ def path_generation(
             if time_limit is not None and time.perf_counter() - t_start > time_limit:
                 break
             sigma = sd.branch
-            solver, rows, nz, fun = _nlp(n, timing, objective, sigma)
+            solver, rows, nz, fun = _nlp(
+                n, timing, objective, sigma, measures, speed,
+                (float(centre[0]), float(centre[1])) if measures else (0.0, 0.0),
+                scale if measures else 1.0,
+            )  # fmt: skip
             x0 = np.concatenate(
                 [
                     sd.design,
@@ -724,16 +762,36 @@ def path_generation(
                 ubx.append(np.inf)
                 x0 = np.append(x0, 4.0)
             x0 = np.clip(x0, lbx, ubx)
+            if measures:  # first the path alone, then the measures from its optimum
+                plain, prow, _, _ = _nlp(n, timing, objective, sigma)
+                npl = len(prow)
+                x0 = np.asarray(
+                    plain(x0=x0, p=P, lbx=lbx, ubx=ubx, lbg=np.zeros(npl),
+                          ubg=np.full(npl, np.inf))["x"], dtype=float,
+                ).ravel()  # fmt: skip
             ng = len(rows)
-            sol = solver(x0=x0, p=P, lbx=lbx, ubx=ubx, lbg=np.zeros(ng), ubg=np.full(ng, np.inf))
+            Pm = np.concatenate([P, base_angles()]) if measures else P
+            for _ in range(8 if measures else 1):  # peaks: add the angles a dense check finds
+                sol = solver(x0=x0, p=Pm, lbx=lbx, ubx=ubx, lbg=np.zeros(ng),
+                             ubg=np.full(ng, np.inf))  # fmt: skip
+                z = np.asarray(sol["x"], dtype=float).ravel()
+                if objective == "squares":
+                    z = _polish(fun, z, Pm, lbx, ubx)
+                s = _solution(z, sigma, n, timing, given, centre, scale, t, objective)
+                if s is None or not measures:
+                    break
+                worst = worst_angles(measures, s.linkage, speed)
+                if worst.size == 0:
+                    break
+                slots = Pm[len(P) + GRID :]
+                Pm[len(P) + GRID :] = np.concatenate([worst, slots])[: len(slots)]
+                x0 = z
             ran += 1
-            z = np.asarray(sol["x"], dtype=float).ravel()
-            if objective == "squares":
-                z = _polish(fun, z, P, lbx, ubx)
-            s = _solution(z, sigma, n, timing, given, centre, scale, t, objective)
             if s is None:
                 continue
-            reason = _feasible(s, timing, min_mu, bnds)
+            reason = _feasible(s, timing, min_mu, bnds) or check_constraints(
+                measures, s.linkage, speed
+            )
             if reason:
                 why = reason
                 continue
@@ -756,7 +814,11 @@ def path_generation(
         from .path_cognates import crank_cognate
 
         cog = crank_cognate(distinct[0], t, objective)
-        if cog is not None and not _feasible(cog, timing, min_mu, bnds):
+        if (
+            cog is not None
+            and not _feasible(cog, timing, min_mu, bnds)
+            and not check_constraints(measures, cog.linkage, speed)
+        ):
             match = [i for i, d in enumerate(distinct) if _same(cog, d, rtol=1e-3)]
             if match:
                 i = match[0]
@@ -784,7 +846,8 @@ def path_generation(
 
 
 def _general(t, mechanism, trace, variables, bounds, timing, given, min_mu, objective, starts,
-             time_limit, margin, progress, seed, closed, t_start):  # fmt: skip
+             time_limit, margin, progress, seed, closed, t_start, measures=(),
+             speed=None):  # fmt: skip
     """Path generation on a Linkage (or the slider-crank template)."""
     from .path_linkage import linkage_path_generation, slider_crank_template
 
@@ -815,7 +878,7 @@ def _general(t, mechanism, trace, variables, bounds, timing, given, min_mu, obje
         t, lk, trace=trace, variables=checked, timing=timing,
         given=given if timing == "prescribed" else None, min_mu=min_mu, objective=objective,
         starts=starts, time_limit=time_limit, margin=max(margin, 1e-9), progress=progress,
-        seed=seed,
+        seed=seed, constraints=measures, speed=speed,
     )  # fmt: skip
     return PathResult(
         targets=t,

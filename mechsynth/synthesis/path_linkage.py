@@ -125,16 +125,20 @@ def _margins_ok(lk, floor, n=3600) -> str:
 
 
 @functools.lru_cache(maxsize=16)
-def _nlp(lk, names, trace, n, timing, objective):
+def _nlp(lk, names, trace, n, timing, objective, constraints=(), speed=None):
     import casadi as ca
 
     k = len(names)
     nphi = n if timing == "free" else 1
     nz = k + nphi + (1 if objective == "max" else 0)
+    from .path_measures import EXTRA
+    from .path_measures import GRID as MGRID
+
     z = ca.SX.sym("z", nz)
-    p = ca.SX.sym("p", 3 * n + 1)  # targets, margin floor, prescribed angles
+    # targets, margin floor, prescribed angles (and the measures' angle slots)
+    p = ca.SX.sym("p", 3 * n + 1 + (MGRID + EXTRA if constraints else 0))
     design = lk(**{nm: z[i] for i, nm in enumerate(names)})
-    phi = z[k : k + n] if timing == "free" else z[k] + p[2 * n + 1 :]
+    phi = z[k : k + n] if timing == "free" else z[k] + p[2 * n + 1 : 3 * n + 1]
     q = design.motion(phi).points[trace]
     d2 = (q.x - p[0 : 2 * n : 2]) ** 2 + (q.y - p[1 : 2 * n : 2]) ** 2
     grid = np.linspace(0.0, 2.0 * np.pi, GRID, endpoint=False)
@@ -146,6 +150,10 @@ def _nlp(lk, names, trace, n, timing, objective):
     if timing == "free":
         g += [phi[i + 1] - phi[i] for i in range(n - 1)]
         g.append(2.0 * np.pi - (phi[n - 1] - phi[0]))
+    if constraints:
+        from .path_measures import constraint_rows
+
+        g += constraint_rows(constraints, design, speed, p[3 * n + 1 :])
     if objective == "max":
         t = z[nz - 1]
         g += [t - d2[i] for i in range(n)]
@@ -184,6 +192,8 @@ def linkage_path_generation(
     margin: float = 1e-3,
     progress=None,
     seed: int = 0,
+    constraints=(),
+    speed=None,
 ):
     """Path generation on ``linkage`` (see :func:`~mechsynth.path_generation`, which checks
     the arguments and calls this). Returns ``(solutions, starts_run, distinct, status, why)``."""
@@ -237,7 +247,7 @@ def linkage_path_generation(
     order = idx[np.argsort(near)]
     pick = list(dict.fromkeys([0] * bool(ok[0]) + [int(i) for i in order]))[:starts]
     P = np.concatenate([t.ravel(), [floor], np.zeros(n) if given is None else given])
-    solver, ng, nz, fun = _nlp(linkage, names, trace, n, timing, objective)
+    solver, ng, nz, fun = _nlp(linkage, names, trace, n, timing, objective, constraints, speed)
     nphi = n if timing == "free" else 1
     lbx = list(lo) + [-6 * np.pi] * nphi
     ubx = list(hi) + [6 * np.pi] * nphi
@@ -247,6 +257,8 @@ def linkage_path_generation(
     found, ran, status, why = [], 0, "optimal", ""
     it = bar(pick, total=len(pick), desc="path generation", enabled=progress, unit="start")
     from .path_generation import _polish
+    from .path_measures import GRID as MGRID
+    from .path_measures import base_angles, worst_angles
 
     try:
         for j in it:
@@ -258,16 +270,31 @@ def linkage_path_generation(
             if objective == "max":
                 x0 = np.append(x0, float(((curves[row][None] - t[:, None]) ** 2).sum(-1).max()))
             x0 = np.clip(x0, lbx, ubx)
-            sol = solver(x0=x0, p=P, lbx=lbx, ubx=ubx, lbg=np.zeros(ng), ubg=np.full(ng, np.inf))
+            Pm = np.concatenate([P, base_angles()]) if constraints else P
+            for _ in range(8 if constraints else 1):  # peaks: add the angles a check finds
+                sol = solver(x0=x0, p=Pm, lbx=lbx, ubx=ubx, lbg=np.zeros(ng),
+                             ubg=np.full(ng, np.inf))  # fmt: skip
+                z = np.asarray(sol["x"], dtype=float).ravel()
+                if objective == "squares":
+                    z = _polish(fun, z, Pm, lbx, ubx)
+                s = _solution(linkage, names, trace, z, n, timing, given, t, objective)
+                if isinstance(s, str) or not constraints:
+                    break
+                worst = worst_angles(constraints, s.linkage, speed)
+                if worst.size == 0:
+                    break
+                slots = Pm[len(P) + MGRID :]
+                Pm[len(P) + MGRID :] = np.concatenate([worst, slots])[: len(slots)]
+                x0 = z
             ran += 1
-            z = np.asarray(sol["x"], dtype=float).ravel()
-            if objective == "squares":
-                z = _polish(fun, z, P, lbx, ubx)
-            s = _solution(linkage, names, trace, z, n, timing, given, t, objective)
             if isinstance(s, str):
                 why = s
                 continue
-            bad = _margins_ok(s.linkage, floor * (1 - 1e-6) - 1e-12)
+            from .path_measures import check_constraints
+
+            bad = _margins_ok(s.linkage, floor * (1 - 1e-6) - 1e-12) or check_constraints(
+                constraints, s.linkage, speed
+            )
             if bad:
                 why = bad
                 continue

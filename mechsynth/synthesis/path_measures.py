@@ -1,0 +1,138 @@
+"""The library's measures as constraints of path generation (``constraints=[...]``).
+
+A peak (``CycleMeasure`` reduced by ``max`` or ``min``) is bounded through its smooth branches at
+each of ``GRID`` crank angles over the turn, as :class:`~mechsynth.synthesis.Problem` bounds
+them on its base grid; a ``ScalarMeasure`` through its branches. The returned designs are then
+checked on 3600 crank angles (a constraint broken there between the grid angles drops the
+design, with the reason). Means, RMS values, equalities and sums of measures are not accepted.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import MechanismError
+
+__all__ = ["check_constraints", "constraint_rows", "GRID"]
+
+#: crank angles at which a peak's branches are bounded in the NLP (a parameter: ``GRID`` equal
+#: steps, then ``EXTRA`` slots for the angles where a dense check found a peak beyond its bound)
+GRID = 72
+EXTRA = 24
+
+
+def _kind(c):
+    from ..objectives.base import Constraint, CycleMeasure, ScalarMeasure
+
+    if not isinstance(c, Constraint):
+        raise MechanismError(
+            f"constraints: expected measures compared with a bound (e.g. "
+            f"ms.objectives.max_pressure_angle() <= ms.deg(40)), got {c!r}"
+        )
+    m = c.measure
+    if isinstance(m, CycleMeasure) and (
+        (m.reduce == "max" and c.op == "<=") or (m.reduce == "min" and c.op == ">=")
+    ):
+        return "cycle"
+    if isinstance(m, ScalarMeasure) and (c.op == "<=" or (c.op == ">=" and not m.has_branches)):
+        return "scalar"
+    raise MechanismError(
+        f"constraints: {c.name} is not accepted in path generation (a peak bounded from its "
+        "side, max <= bound or min >= bound, or a closed-form measure <= or >= a bound)"
+    )
+
+
+def check_types(constraints) -> tuple:
+    """The constraints as a tuple, each checked to be one path generation accepts."""
+    out = tuple(constraints or ())
+    for c in out:
+        _kind(c)
+    return out
+
+
+def base_angles() -> np.ndarray:
+    """The ``GRID + EXTRA`` angle slots at the start (the extra slots repeat grid angles)."""
+    grid = np.linspace(0.0, 2.0 * np.pi, GRID, endpoint=False)
+    return np.concatenate([grid, grid[:EXTRA]])
+
+
+def constraint_rows(constraints, design, speed, phi):
+    """``g >= 0`` rows (CasADi) of ``constraints`` on the symbolic ``design`` (a Linkage) at the
+    crank angles ``phi`` (a CasADi parameter vector of ``GRID + EXTRA`` angles)."""
+    import casadi as ca
+
+    from ..objectives.base import CycleMeasure
+
+    rows = []
+    if not constraints:
+        return rows
+    motion = design.motion(phi, speed=speed)
+    for c in constraints:
+        m = c.measure.bind(design)
+        scale = max(1.0, abs(c.bound))
+        # a relative 1e-7 inside the bound: the dense check's 1e-6 then holds where the peak
+        # drifts between the angles the NLP bounds it at
+        inner = c.bound - 1e-7 * max(1.0, abs(c.bound)) * (1 if c.op == "<=" else -1)
+        if isinstance(m, CycleMeasure):
+            bound = inner**2 if m.outer == "sqrt" else inner
+            scale = max(1.0, abs(bound))
+            for br in m.branches(design, motion):
+                br = ca.vec(br) if not isinstance(br, (float, int)) else br
+                rows.append(((bound - br) if c.op == "<=" else (br - bound)) / scale)
+        else:
+            for br in m.branches(design):
+                rows.append(((inner - br) if c.op == "<=" else (br - inner)) / scale)
+    return rows
+
+
+def _peaks(constraint, design, speed, n):
+    """``(angles, excess)`` of the local peaks of a cycle constraint's excess over its bound on
+    ``n`` crank angles, each refined by a parabola through its neighbours (the samples are
+    smooth between grid angles)."""
+    from ..units import cycle
+
+    m = constraint.measure.bind(design)
+    phi = cycle(n)
+    v = np.asarray(m.samples(design, design.motion(phi, speed=speed)), dtype=float).ravel()
+    e = v - constraint.bound if constraint.op == "<=" else constraint.bound - v
+    y0, y2 = np.roll(e, 1), np.roll(e, -1)
+    idx = np.flatnonzero((e >= y0) & (e >= y2))
+    curv = y0[idx] - 2.0 * e[idx] + y2[idx]
+    off = np.where(curv < 0, 0.5 * (y0[idx] - y2[idx]) / np.where(curv < 0, curv, -1.0), 0.0)
+    off = np.clip(off, -0.5, 0.5)
+    peak = e[idx] - 0.25 * (y0[idx] - y2[idx]) * off
+    return phi[idx] + off * (2.0 * np.pi / n), peak
+
+
+def worst_angles(constraints, design, speed, n: int = 3600, k: int = 4) -> np.ndarray:
+    """The crank angles (rad) of the ``k`` largest excesses of each peak over its bound on ``n``
+    angles (parabola-refined local extremes), to add to the NLP's angle slots."""
+    from ..objectives.base import CycleMeasure
+
+    out = []
+    for c in constraints or ():
+        if not isinstance(c.measure.bind(design), CycleMeasure):
+            continue
+        ang, peak = _peaks(c, design, speed, n)
+        bad = peak > 0
+        out.extend(ang[bad][np.argsort(-peak[bad])][:k])
+    return np.asarray(out, dtype=float)
+
+
+def check_constraints(constraints, design, speed, n: int = 3600) -> str:
+    """'' when every constraint holds for the numeric ``design`` over the turn (relative
+    tolerance 1e-6): a peak's value is its largest parabola-refined local extreme on ``n``
+    crank angles; else the first one broken with its value."""
+    from ..objectives.base import CycleMeasure
+
+    for c in constraints or ():
+        m = c.measure.bind(design)
+        if isinstance(m, CycleMeasure):
+            _, peak = _peaks(c, design, speed, n)
+            excess = float(peak.max(initial=-np.inf))
+            value = c.bound + excess if c.op == "<=" else c.bound - excess
+        else:
+            value = float(m.evaluate(design, speed=speed))
+        if c.violation(value) > 1e-6 * max(1.0, abs(c.bound)):
+            return f"{c.name} broken over the turn: {value:.8g}"
+    return ""
