@@ -41,6 +41,7 @@ __all__ = [
     "display_units",
     "current",
     "convert",
+    "thousands",
     "fmt",
     "label",
     "angle_position",
@@ -194,6 +195,21 @@ def current() -> DisplayUnits:
 def convert(value, unit: str):
     """(value, unit) of an SI ``value`` in the current display units."""
     return current().convert(value, unit)
+
+
+#: a thousand of a display unit, by name (mm -> m), for values that would need five digits
+_KILO = {"mm": "m", "mm/s": "m/s", "mm/s^2": "m/s^2", "N": "kN", "N m": "kN m", "lbf": "klbf"}
+
+
+def thousands(values, unit: str):
+    """``(values, unit)`` of displayed values, in a thousand of ``unit`` when the largest
+    magnitude reaches 10,000, so that tick labels keep at most four digits (300000 mm/s^2 is
+    shown as 300 m/s^2, 250000 N as 250 kN)."""
+    arr = np.asarray(values, dtype=float)
+    finite = np.abs(arr[np.isfinite(arr)])
+    if finite.size == 0 or not finite.max() >= 1e4:
+        return values, unit
+    return arr / 1e3, _KILO.get(unit, f"1000 {unit}")
 
 
 def label(name: str, unit: str) -> str:

@@ -83,22 +83,29 @@ def style():
         yield
 
 
-def force_unit(values) -> tuple[float, str]:
-    """(divisor, unit) for forces in newtons: kN when the largest magnitude reaches 10 kN and
-    the display force unit is N; otherwise the display unit."""
+def _thousands(values, si_unit: str) -> tuple[float, str]:
+    """(divisor, unit) of the display unit of ``si_unit``, or of a thousand of it when the
+    largest displayed magnitude reaches 10,000 (tick labels keep at most four digits): kN,
+    kN m, klb; torques in in-lb as "1000 in-lb", the oilfield way."""
     du = display.current()
-    if du.force == "N" and np.nanmax(np.abs(np.asarray(values, dtype=float))) >= 1e4:
-        return 1e3, "kN"
-    return du.factor("N"), du.unit("N")
+    factor, unit = du.factor(si_unit), du.unit(si_unit)
+    with np.errstate(invalid="ignore"):
+        peak = np.nanmax(np.abs(np.asarray(values, dtype=float))) / factor
+    if not peak >= 1e4:
+        return factor, unit
+    return factor * 1e3, ("1000 " + unit if "-" in unit else "k" + unit)
+
+
+def force_unit(values) -> tuple[float, str]:
+    """(divisor, unit) for forces in newtons: the display unit, or a thousand of it (kN, klb)
+    when the largest magnitude reaches 10,000 of it."""
+    return _thousands(values, "N")
 
 
 def torque_unit(values) -> tuple[float, str]:
-    """(divisor, unit) for torques in N m: kN m from 10 kN m up when the display torque unit is
-    N m; otherwise the display unit."""
-    du = display.current()
-    if du.torque == "N m" and np.nanmax(np.abs(np.asarray(values, dtype=float))) >= 1e4:
-        return 1e3, "kN m"
-    return du.factor("N m"), du.unit("N m")
+    """(divisor, unit) for torques in N m: the display unit, or a thousand of it (kN m,
+    1000 in-lb) when the largest magnitude reaches 10,000 of it."""
+    return _thousands(values, "N m")
 
 
 def crank_axis(ax, label="crank angle", axis="x", start=0.0, span=360.0) -> None:
@@ -257,8 +264,13 @@ def layout_problems(fig, tol: float = 0.5) -> list[str]:
       of one legend against each other;
     * text that sticks out of the figure;
     * a legend that covers plotted data points of its axes (lines, markers);
-    * a marker drawn so close to its axes' edge that the axes clip part of it.
+    * a marker drawn so close to its axes' edge that the axes clip part of it;
+    * an axis labelled with a raw parameter name (``N_guide_angle, deg``) instead of words;
+    * tick labels that need more than four digits before the decimal point (``200000``): the
+      unit wants an engineering prefix (k, M) or a scale.
     """
+    import re
+
     from matplotlib.legend import Legend
 
     fig.canvas.draw()
@@ -315,6 +327,19 @@ def layout_problems(fig, tol: float = 0.5) -> list[str]:
                     problems.append(
                         f"marker of {line.get_label()!r} at the edge of {ax.get_title()!r} "
                         "is clipped"
+                    )
+                    break
+        for axis in (ax.xaxis, ax.yaxis):
+            label = axis.get_label()
+            text = label.get_text() if label.get_visible() else ""
+            if re.fullmatch(r"[A-Za-z][A-Za-z0-9]*_\w+", text.split(",")[0].strip()):
+                problems.append(f"axis label {text!r} is a raw parameter name, not words")
+            for tick in axis.get_ticklabels():
+                digits = re.sub(r"[^0-9.]", "", tick.get_text().replace("\u2212", "-"))
+                if tick.get_visible() and len(digits.split(".")[0]) > 4:
+                    problems.append(
+                        f"tick label {tick.get_text()!r} of {text or 'an axis'!r} needs more than "
+                        "four digits: use an engineering prefix or a scale"
                     )
                     break
     return problems

@@ -196,3 +196,14 @@ def test_measure_names_in_words():
     assert readable("peak_velocity(C, direction=1.5708)") == (
         "peak velocity of C (direction=1.5708)"
     )
+
+
+def test_thousands_keeps_tick_labels_to_four_digits():
+    from mechsynth import display
+
+    v, u = display.thousands(np.array([-300000.0, 5.0, np.nan]), "mm/s^2")
+    assert u == "m/s^2" and np.nanmax(np.abs(v)) == 300.0
+    assert display.thousands(np.array([2.5e5]), "N")[1] == "kN"
+    assert display.thousands(np.array([2.5e5]), "in-lb")[1] == "1000 in-lb"
+    same = np.array([9999.0])
+    assert display.thousands(same, "mm")[0] is same  # below 10,000: unchanged

@@ -55,6 +55,19 @@ def test_the_checker_sees_overlaps_clipped_markers_and_hidden_data():
     plt.close(fig)
 
 
+def test_the_checker_sees_raw_parameter_names_and_five_digit_ticks():
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(5, 3), layout="constrained")
+    ax.plot([0, 1], [0, 200000])
+    ax.set_xlabel("N_guide_angle, deg")
+    ax.set_ylabel("acceleration, mm/s^2")
+    problems = " | ".join(layout_problems(fig))
+    assert "'N_guide_angle, deg' is a raw parameter name" in problems
+    assert "needs more than four digits" in problems
+    plt.close(fig)
+
+
 def test_layout_checker_passes_a_clean_figure():
     import matplotlib.pyplot as plt
 

@@ -406,6 +406,7 @@ class Motion:
             for k, (axis, items) in enumerate(zip(axes, series)):
                 for i, (label, unit, y) in enumerate(items):
                     yv, shown = display.convert(np.asarray(y, dtype=float), unit)
+                    yv, shown = display.thousands(yv, shown)
                     style = "-" if i == 0 else "--"
                     axis.plot(x, np.asarray(yv).T, style, label=f"{label}, {shown}")
                     units[k].add(shown)
@@ -429,3 +430,4 @@ class Motion:
             speed = speed_text(self.omega)
         axes[0].set_title(title or f"motion of {', '.join(quantities)}: {speed}")
         return fig
+

@@ -284,7 +284,7 @@ class Chart:
             handles = []
             for i, lab in enumerate(labels):
                 z, unit, _ = self._display(lab)
-                lv = _levels(z, region, levels)
+                lv = _levels(z, region, levels if i == 0 else 8, by_area=i > 0)
                 colour, ls = colours[i % len(colours)], styles[i % len(styles)]
                 if lv is not None:
                     if i == 0 and fill:
@@ -379,12 +379,18 @@ class Chart:
                     note = ""
                     if b["on_edge"]:
                         note = " (on the grid's edge)"
+                        # the note points into the chart, away from the edges the design is on
+                        x0, x1 = float(np.min(xv)), float(np.max(xv))
+                        y0, y1 = float(np.min(yv)), float(np.max(yv))
+                        right = float(bx) - x0 < 0.5 * (x1 - x0)
+                        up = float(by) - y0 < 0.5 * (y1 - y0)
                         ax.annotate(
                             "on the grid's edge",
                             (bx, by),
-                            xytext=(-12, -14),
+                            xytext=(12 if right else -12, 14 if up else -14),
                             textcoords="offset points",
-                            ha="right",
+                            ha="left" if right else "right",
+                            va="bottom" if up else "top",
                             fontsize=8,
                             bbox=dict(boxstyle="round,pad=0.2", fc="white", ec="0.3"),
                         )
@@ -418,10 +424,13 @@ class Chart:
         return fig
 
 
-def _levels(z, region, n):
+def _levels(z, region, n, by_area=False):
     """Contour levels spanning the 1st-99th percentile of ``z`` inside ``region`` (all feasible
     values when the region is empty), so that a few extreme designs near an infeasible boundary
-    do not flatten the chart. None when ``z`` is constant."""
+    do not flatten the chart. None when ``z`` is constant. ``by_area``: levels at equal
+    fractions of the designs (rounded to a power of ten below their spacing), so that a
+    measure which changes fast in a corner of the chart (a time ratio near the toggle) spreads
+    its lines over the chart instead of bundling them there."""
     from matplotlib.ticker import MaxNLocator
 
     data = np.ma.getdata(z)[region & ~np.ma.getmaskarray(z)]
@@ -432,6 +441,12 @@ def _levels(z, region, n):
     lo, hi = np.percentile(data, [1.0, 99.0])
     if not hi > lo:
         return None
+    if by_area:
+        q = np.percentile(data, np.linspace(4.0, 96.0, n))
+        unit = 10.0 ** np.floor(np.log10((hi - lo) / n))  # rounded to the levels' spacing
+        q = np.unique(np.round(q / unit) * unit)
+        if q.size >= 3:
+            return q
     return MaxNLocator(n).tick_values(lo, hi)
 
 

@@ -421,6 +421,13 @@ def _axis(value, where):
     return value[0], lo, hi
 
 
+def _axis_words(lk: Linkage, name: str) -> str:
+    """A parameter in words for an axis ('angle of guide of N (N_guide_angle)'), not only its
+    name."""
+    role = lk.parameter_roles.get(name, "")
+    return role if name in role.replace("(", " ").split() else f"{role} ({name})".strip()
+
+
 @chart_options(
     Option(
         "file", None, "the chart file: a linkage and its [chart] table", kind="path", required=True
@@ -568,7 +575,7 @@ def chart_linkage(out, options):
         angles=angles,
         speed=speed,
         progress=False,
-        labels={k: f"{k}, {unit[k]}" for k in (xn, yn)},
+        labels={k: f"{_axis_words(lk, k)}, {unit[k]}" for k in (xn, yn)},
     )
     files = []
     if out is not None:

@@ -416,7 +416,7 @@ class Result:
         with style():
             fig, axes = plt.subplots(4, 1, sharex=True, figsize=(7.5, 9), layout="constrained")
             for ax, y, u, lab in zip(axes, series, units, labels):
-                yv, shown = display.convert(np.asarray(y, dtype=float), u)
+                yv, shown = display.thousands(*display.convert(np.asarray(y, dtype=float), u))
                 ax.plot(deg, yv, lw=1.5)
                 ax.set_ylabel(f"{lab}, {shown}")
             pa, shown = display.convert(np.asarray(m.pressure_angle, dtype=float), "rad")

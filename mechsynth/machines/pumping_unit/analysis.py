@@ -337,6 +337,17 @@ def _name(data) -> str:
     return data.get("designation") or "pumping unit"
 
 
+def _thousands(unit_scale, *values):
+    """``(scale, unit)`` for a figure: the display unit, or a thousand of it (klb, 1000 in-lb)
+    when the largest plotted magnitude reaches 10,000 (tick labels keep four digits)."""
+    unit, scale = unit_scale
+    finite = [np.abs(a[np.isfinite(a)]) for a in (np.asarray(v, dtype=float) for v in values)]
+    peak = max((float(a.max()) for a in finite if a.size), default=0.0) * scale
+    if not peak >= 1e4:
+        return scale, unit
+    return scale / 1e3, ("1000 " + unit if "-" in unit or " " in unit else "k" + unit)
+
+
 def _write(out, unit, theta, m, tc, pl, U, cv, data):
     import matplotlib
 
@@ -377,7 +388,8 @@ def _write(out, unit, theta, m, tc, pl, U, cv, data):
     files.append(out / "torque_factor_table.csv")
 
     if tc is not None:
-        fig = tc.plot(scale=U["torque"][1], unit=U["torque"][0])
+        t_scale, t_unit = _thousands(U["torque"], tc.well, tc.net, tc.counterbalance)
+        fig = tc.plot(scale=t_scale, unit=t_unit)
         fig.axes[0].set_title(f"{_name(data)}: gearbox torque", fontsize=10)
         files.append(save_figure(fig, out / "torque.png", dpi=110))
         with atomic(out / "torque_curve.csv", "w", newline="") as fh:
@@ -398,7 +410,8 @@ def _write(out, unit, theta, m, tc, pl, U, cv, data):
             ok = np.isfinite(pl["upper"])
             px = pl["position"] * U["length"][1]
             up = pl["torque_factor"] > 0
-            f = U["force"][1]
+            card = () if tc is None else (tc.load,)
+            f, f_unit = _thousands(U["force"], pl["upper"], pl["lower"], *card)
             ax.plot(
                 px[ok & up],
                 pl["upper"][ok & up] * f,
@@ -420,7 +433,7 @@ def _write(out, unit, theta, m, tc, pl, U, cv, data):
             top = np.nanmax(np.where(ok, tc.load if tc is not None else 0, np.nan)) * f
             ax.set_ylim(0, 2.0 * top if np.isfinite(top) and top > 0 else None)
             ax.set_xlabel(f"polished-rod position, {U['length'][0]}")
-            ax.set_ylabel(f"load, {U['force'][0]}")
+            ax.set_ylabel(f"load, {f_unit}")
             ax.set_title(
                 f"{_name(data)}: permissible load (gearbox rating, counterbalance as set)",
                 fontsize=10,
