@@ -71,6 +71,8 @@ COMMANDS = [
     ["animate", "{f}", "--out", "{out}", "--frames", "4", "--dpi", "20"],
     ["pump", "analyze", "{f}"],
     ["chart", "linkage", "--set", "file={f}", "--set", "n=3"],
+    ["synthesize", "function", "--pairs", "{f}"],
+    ["synthesize", "motion", "{f}", "--quiet"],
 ]
 
 ARGS = [
@@ -100,6 +102,19 @@ ARGS = [
     ["--units", "si"],
     [],
     ["optimize", "--bogus"],
+    ["synthesize", "function", "--function", "log10(x)", "--x", "0", "10", "--input-range",
+     "60deg", "--output-range", "90deg"],  # fmt: skip
+    ["synthesize", "function", "--function", "x.real", "--x", "1", "2", "--input-range", "1",
+     "--output-range", "1"],  # fmt: skip
+    ["synthesize", "function", "--function", "__import__('os')", "--x", "1", "2"],
+    ["synthesize", "motion", str(EX / "motion_poses.csv"), "--centres", "nan,1"],
+    ["synthesize", "motion", str(EX / "motion_poses.csv"), "--candidate", "0"],
+    ["synthesize", "motion", str(EX / "motion_poses.csv"), "--tol", "nan"],
+    ["synthesize", "motion", "/nonexistent.csv"],
+    ["synthesize"],
+    ["chart", "slider-crank", "--set", "n=5", "--dask", ""],
+    ["explore", "/nonexistent.toml", "--no-browser"],
+    ["explore", "/dev/zero", "--no-browser"],
 ]
 
 
@@ -120,7 +135,9 @@ def _clean(capsys, argv):
 
 @pytest.mark.parametrize("name", sorted(FILES))
 @pytest.mark.parametrize(
-    "command", COMMANDS, ids=lambda c: c[0] + ("-" + c[1] if c[0] in ("pump", "chart") else "")
+    "command",
+    COMMANDS,
+    ids=lambda c: c[0] + ("-" + c[1] if c[0] in ("pump", "chart", "synthesize") else ""),
 )
 def test_hostile_files_through_every_command(tmp_path, capsys, name, command):
     text = FILES[name]
