@@ -470,6 +470,7 @@ def _run(out, n_angles, pareto_points, starts, stages):
     files = []
     if out is not None:
         stages.next(STAGES[3])
+        data["coverage"] = COVERAGE.to_dict()  # in beam_pump.json too
         files = _write(Path(out), theta, w, units, card, table, front, data, best_design)
         files += _write_recommendations(Path(out), theta, w, units, card, table, front_v)
     summary = _summary(base, fit, table, printed_table, findings, best, best_design, front)
