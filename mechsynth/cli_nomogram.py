@@ -51,6 +51,12 @@ def add_parser(sub) -> None:
     p.add_argument("--paper", choices=("a4", "letter"), default="a4",
                    help="paper size (portrait; default a4); the chart is drawn at 1:1")
     _add_output_options(p)
+    for action in p._actions:  # each chart's own units unless told (oilfield for the pump's)
+        if action.dest == "units":
+            action.help = (
+                "units of the sheet, report and JSON labels (SI inside): si, mm-deg or "
+                "oilfield; default: the chart's own (oilfield for the pumping unit's, si else)"
+            )
     p.set_defaults(func=run, units=None)
 
 

@@ -245,6 +245,9 @@ def test_user_nomogram_checks_the_stated_form_and_its_arguments():
         ms.nomogram(lambda u, v: u * v, u=(-1, 10), v=(1, 5), form=Product())
     with pytest.raises(ms.MechanismError, match="low < high"):
         ms.nomogram(lambda u, v: u + v, u=(1, 1), v=(1, 5))
+    for bad in ((True, 2), ("1", 2), (1j, 2), (float("nan"), 2), 3, "ab", (1, 2, 3)):
+        with pytest.raises(ms.MechanismError, match="nomogram: u"):
+            ms.nomogram(lambda u, v: u + v, u=bad, v=(1, 5))
     with pytest.raises(ms.MechanismError, match="not finite"):
         ms.nomogram(lambda u, v: 1 / (u - v), u=(1, 5), v=(1, 5))
     with pytest.raises(ms.MechanismError, match="unknown variables"):

@@ -30,19 +30,29 @@ FORMATS = (".png", ".pdf", ".svg")
 
 
 def _side(nm, name, pts):
-    """+1 or -1: the normal (tangent turned left) sign pointing away from the other scales."""
+    """+1 or -1: the side of the scale (its tangent turned left, or right) for the ticks and
+    labels -- the one where fewer points of the other scales lie within a label's reach
+    (14 mm), away from the other scales on a tie."""
+    others = [ps.position(ps.scale.sample(81)) for k, ps in nm.scales.items() if k != name]
+    others += [_grid_points(g) for g in nm.grids.values()]
+    if not others:
+        return 1.0
+    P = np.concatenate(others)
+    q = pts[::5]
+    t = np.gradient(pts, axis=0)[::5]
+    t /= np.maximum(np.hypot(*t.T), 1e-12)[:, None]
+    n = np.stack([-t[:, 1], t[:, 0]], axis=1)
+    rel = P[None, :, :] - q[:, None, :]
+    across = (rel * n[:, None, :]).sum(-1)
+    along = np.abs((rel * t[:, None, :]).sum(-1))
+    near = along < 3.0
+    left = int(((across > 0) & (across < 14.0) & near).sum())
+    right = int(((across < 0) & (across > -14.0) & near).sum())
+    if left != right:
+        return 1.0 if left < right else -1.0
     mid = pts[len(pts) // 2]
-    t = pts[min(len(pts) // 2 + 1, len(pts) - 1)] - pts[max(len(pts) // 2 - 1, 0)]
-    n = np.array([-t[1], t[0]])
-    others = [
-        ps.position(ps.scale.sample(41)).mean(axis=0)
-        for k, ps in nm.scales.items()
-        if k != name
-    ] + [_grid_points(g).mean(axis=0) for g in nm.grids.values()]
-    away = mid - np.mean(others, axis=0)
-    if abs(float(n @ away)) < 1e-9 * (np.hypot(*n) * np.hypot(*away) + 1e-300):
-        return 1.0 if n[0] >= 0 else -1.0
-    return 1.0 if float(n @ away) > 0 else -1.0
+    away = mid - P.mean(axis=0)
+    return 1.0 if float(n[len(n) // 2] @ away) >= 0 else -1.0
 
 
 def _normals(points_before, points_after, sign):

@@ -46,12 +46,14 @@ class Product:
 
 
 def _domain(name, value):
-    try:
-        lo, hi = (float(x) for x in value)
-    except (TypeError, ValueError):
-        raise MechanismError(f"nomogram: {name} must be (low, high), got {value!r}") from None
-    if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
-        raise MechanismError(f"nomogram: {name} must be finite (low, high) with low < high, "
+    from .. import validate
+
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 2:
+        raise MechanismError(f"nomogram: {name} must be (low, high), got {value!r}")
+    lo = validate.number(f"nomogram: {name}'s low end", value[0])
+    hi = validate.number(f"nomogram: {name}'s high end", value[1])
+    if not lo < hi:
+        raise MechanismError(f"nomogram: {name} must be (low, high) with low < high, "
                              f"got {value!r}")
     return lo, hi
 
