@@ -380,3 +380,33 @@ def test_unsupported_measure_constraints_fail_clearly(op):
     )  # fmt: skip
     with pytest.raises(MechanismError, match="not accepted in path generation"):
         ms.path_generation([(0, 0), (1, 0), (1, 1)], constraints=[c])
+
+
+@pytest.mark.slow
+def test_shape_only_recovers_a_coupler_curve_shape():
+    """Points of a known four-bar's curve, moved, turned and scaled: the shape error reaches
+    round-off and the placed design passes near the points (their correspondence is by arc
+    fraction, not exact)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from mechsynth.plotting import layout_problems
+
+    pts, design, _ = exact_case()
+    sol = evaluated(design, "open", [0.0], np.zeros((1, 2)))
+    phi = np.linspace(0, 2 * np.pi, pa.SAMPLES, endpoint=False) + 0.3
+    rot = np.array([[np.cos(2.0), -np.sin(2.0)], [np.sin(2.0), np.cos(2.0)]])
+    targets = 0.01 * sol.trace(phi) @ rot.T + [5.0, -3.0]
+    r = ms.path_generation(targets, timing="shape", starts=2)
+    assert r.success and r.timing == "shape" and r.error < 1e-20
+    assert r.best.max_distance < 1e-3 * 0.01 * 3  # a thousandth of the curve's size
+    assert r.best.transmission[0] == pytest.approx(ms.deg(46.05), abs=ms.deg(0.01))
+    fig = r.figure()
+    assert layout_problems(fig) == [] and "shape error" in fig.axes[0].get_title()
+
+
+def test_shape_only_needs_a_closed_path():
+    with pytest.raises(MechanismError, match="closed"):
+        ms.path_generation([(0, 0), (1, 0), (1, 1)], timing="shape", closed=False)
+    with pytest.raises(MechanismError, match="takes no objective"):
+        ms.path_generation([(0, 0), (1, 0), (1, 1)], timing="shape", objective="max")

@@ -54,7 +54,7 @@ def path_figure(result, n: int = 360, show: int | None = None):
         xy = ax.transData.transform(t)
         kept: list[np.ndarray] = []
         for i, (x, y) in enumerate(t):
-            if all(np.hypot(*(xy[i] - q)) > 14.0 for q in kept):  # display pixels
+            if all(np.hypot(*(xy[i] - q)) > 28.0 for q in kept):  # display pixels
                 kept.append(xy[i])
                 ax.annotate(str(i + 1), (x, y), textcoords="offset points", xytext=(4, 4),
                             fontsize=7, color=PALETTE[6])  # fmt: skip
@@ -62,9 +62,13 @@ def path_figure(result, n: int = 360, show: int | None = None):
         ax.set_ylabel(f"y, {unit}")
         mu0, mu1 = np.rad2deg(best.transmission)
         kind = f"{best.branch} branch" if best.branch else best.linkage.name
+        if result.timing == "shape":
+            what = f"shape error {best.error:.3g}, points {best.sum_squares / f**2:.4g} {unit}²"
+        else:
+            kind_ = "sum of squares" if result.objective == "squares" else "largest square"
+            what = f"error {best.error / f**2:.4g} {unit}² ({kind_})"
         ax.set_title(
-            f"path generation, {result.timing} timing: error {best.error / f**2:.4g} {unit}²"
-            f" ({'sum of squares' if result.objective == 'squares' else 'largest square'}),\n"
+            f"path generation, {result.timing} timing: {what},\n"
             f"transmission angle {mu0:.1f}-{mu1:.1f} deg, {kind}"
         )
         ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0))

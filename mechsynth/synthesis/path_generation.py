@@ -47,7 +47,7 @@ __all__ = ["path_generation", "PathResult", "PathSolution", "read_targets", "NAM
 #: the design variables, in the solver's order
 NAMES = ("crank", "coupler", "rocker", "ground", "u", "v", "x0", "y0", "angle")
 _LENGTHS = ("crank", "coupler", "rocker", "ground")
-TIMINGS = ("free", "prescribed")
+TIMINGS = ("free", "prescribed", "shape")
 OBJECTIVES = ("squares", "max")
 
 ERROR_DEFINITION = {
@@ -325,10 +325,11 @@ class PathResult:
         if self.best is None:
             lines.append(f"no feasible design: {self.message}")
             return "\n".join(lines)
+        unit = "" if self.timing == "shape" else " m^2"
         for k, s in enumerate(self.solutions[:5], start=1):
             mu0, mu1 = np.rad2deg(s.transmission)
             lines.append(
-                f"#{k}: error {s.error:.6g} m^2 (sum of squares {s.sum_squares:.6g}, largest "
+                f"#{k}: error {s.error:.6g}{unit} (sum of squares {s.sum_squares:.6g}, largest "
                 f"distance {s.max_distance:.4g} m), transmission {mu0:.2f}-{mu1:.2f} deg, "
                 f"{s.branch or 'linkage'}" + (f", {s.note}" if s.note else "")
             )
@@ -611,9 +612,12 @@ def path_generation(
     ----------
     targets : ``(N, 2)`` points (m) in the order the coupler point should visit them, or a CSV
         file of ``x, y`` rows (see :func:`read_targets`).
-    timing : ``"free"`` (crank angles are variables, in order within one turn) or
+    timing : ``"free"`` (crank angles are variables, in order within one turn),
         ``"prescribed"`` (``angles`` gives the crank angle at each target, rad; only the
-        differences from the first count: the start is free).
+        differences from the first count: the start is free), or ``"shape"`` (a closed path's
+        shape only: the curves compared by their normalized elliptic Fourier descriptors,
+        position, orientation, size and timing free; a four-bar, see
+        :mod:`~mechsynth.synthesis.path_shape`).
     angles : the prescribed crank angles (rad), with ``timing="prescribed"``.
     closed : the targets lie on a closed path (the default; it matters for the shape seeds).
     min_transmission : smallest transmission angle over the whole turn (rad), e.g.
@@ -712,6 +716,9 @@ def path_generation(
             "trace and variables are for a Linkage or the slider-crank; the four-bar's "
             f"variables are {', '.join(NAMES)} (bounds=...)"
         )
+    if timing == "shape":
+        return _shape(t, closed, objective, measures, bounds, starts, min_mu, margin,
+                      time_limit, t_start)  # fmt: skip
     bnds = _check_bounds(bounds, t)
 
     centre = t.mean(axis=0)
@@ -842,6 +849,38 @@ def path_generation(
         error_definition=ERROR_DEFINITION[objective],
         bounds=bnds,
         message="" if distinct else (why or "no start ended on a design whose crank turns"),
+    )
+
+
+def _shape(t, closed, objective, measures, bounds, starts, min_mu, margin, time_limit, t_start):
+    """Shape-only timing (:mod:`~mechsynth.synthesis.path_shape`)."""
+    from .path_shape import SHAPE_ERROR, shape_path_generation
+
+    if not closed:
+        raise MechanismError("timing='shape' compares closed curves: the targets' path must be "
+                             "closed")  # fmt: skip
+    if objective != "squares" or measures or bounds is not None:
+        raise MechanismError(
+            "timing='shape' takes no objective, constraints or bounds (the shape error; "
+            "min_transmission applies)"
+        )
+    sols, ran, distinct, status, why = shape_path_generation(
+        t, starts=starts, min_mu=min_mu, margin=margin, time_limit=time_limit, t_start=t_start
+    )
+    return PathResult(
+        targets=t,
+        best=sols[0] if sols else None,
+        solutions=tuple(sols),
+        timing="shape",
+        objective=objective,
+        closed=True,
+        min_transmission=min_mu,
+        starts=ran,
+        distinct=distinct,
+        status=status,
+        seconds=time.perf_counter() - t_start,
+        error_definition=SHAPE_ERROR,
+        message="" if sols else why,
     )
 
 
