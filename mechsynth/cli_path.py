@@ -32,9 +32,10 @@ def add_parser(sub) -> None:
                    "file ([linkage], [ground], [[group]] tables) with a [variables] table of "
                    "the dimensions to vary, name = [lower, upper], and optionally "
                    "trace = 'P' (default: the linkage's output)")  # fmt: skip
-    p.add_argument("--timing", choices=("free", "prescribed"), default="free",
+    p.add_argument("--timing", choices=("free", "prescribed", "shape"), default="free",
                    help="free: crank angles are variables, in the points' order within one "
-                   "turn (default); prescribed: the CSV's third column (deg)")  # fmt: skip
+                   "turn (default); prescribed: the CSV's third column (deg); shape: a closed "
+                   "path's shape only (position, orientation, size, timing free)")  # fmt: skip
     p.add_argument(
         "--min-transmission",
         default="none",

@@ -179,3 +179,12 @@ def test_measure_constraint_on_the_command_line(tmp_path, capsys):
     assert data["best"]["transmission_min"] >= np.deg2rad(40) - 1e-6
     assert main(["synthesize", "path", str(f), "--constraint", "stroke <= 3 deg"]) == 1
     assert "mechsynth: error:" in capsys.readouterr().err
+
+
+def test_shape_timing_on_the_command_line(tmp_path, capsys):
+    f = _csv(tmp_path / "t.csv", CASES["bulatovic-12"].targets)
+    code = main(["synthesize", "path", str(f), "--timing", "shape", "--starts", "1", "--json"])
+    assert code == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["timing"] == "shape" and "Fourier" in data["error_definition"]
+    assert data["best"]["sum_squares"] < 1e-2  # the polygon of 12 points, not the points
