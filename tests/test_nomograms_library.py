@@ -174,9 +174,28 @@ def test_cli_writes_pdf_svg_png_json_and_prints_the_report(tmp_path, capsys):
     assert "m^3/d" in capsys.readouterr().out
 
 
+@pytest.mark.parametrize("args, message", [
+    (["pump-displacement", "--set", "plunger=0:1"], "> 0"),
+    (["slider-crank-acceleration", "--set", "rpm=0:1"], "> 0"),
+    (["pump-torque", "--set", "load=1e300:1e301"], "<= 1e+07"),
+    (["slider-crank", "--set", "rod_crank=nan:3"], "LOW:HIGH"),
+    (["slider-crank", "--set", "rod_crank=1.2:3"], "rod > crank + offset"),
+    (["four-bar", "--set", "swing_deg=5:150", "--set", "time_ratio=1.001:3"], "no crank-rocker"),
+    (["four-bar", "--set", "read=x"], "one of"),
+])
+def test_cli_hostile_options_end_in_one_line(args, message, capsys):
+    assert main(["nomogram", *args]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert message in err[-1] and err[-1].startswith(("mechsynth: error:", "mechsynth nomogram:"))
+    assert not any("Traceback" in line or "Warning" in line for line in err)
+
+
 def test_cli_bad_input_is_one_line_and_exit_1(capsys):
     assert main(["nomogram", "nope"]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("mechsynth: error: unknown nomogram")
     assert main(["nomogram", "pump-torque", "--set", "load=3"]) == 1
     assert "LOW:HIGH" in capsys.readouterr().err
+    with pytest.raises(SystemExit) as stop:  # argparse's usage errors exit 1 too
+        main(["nomogram", "pump-torque", "--paper", "a3"])
+    assert stop.value.code == 1 and "invalid choice" in capsys.readouterr().err

@@ -38,8 +38,12 @@ __all__ = [
     "crank_rocker_design",
 ]
 
-def _span(name, default, help, unit="", minimum=None, maximum=None):
-    return Option(name, default, help, unit=unit, kind="span", minimum=minimum, maximum=maximum)
+def _span(name, default, help, unit="", minimum=None, maximum=None, positive=False):
+    """A ``LOW:HIGH`` option; ``positive``: both ends above ``minimum`` (0 by default)."""
+    if positive and minimum is None:
+        minimum = 0.0
+    return Option(name, default, help, unit=unit, kind="span", minimum=minimum, maximum=maximum,
+                  exclusive=positive)
 
 
 # ---------------------------------------------------------------------------- slider-crank
@@ -405,8 +409,9 @@ NOMOGRAMS = {
         Options(
             _span("rod_crank", (2.5, 6.0), "range of rod / crank", minimum=1.1),
             _span("offset_crank", (0.0, 1.0), "range of offset / crank", minimum=0),
-            _span("crank", (0.02, 0.2), "range of the crank", unit="m", minimum=0),
-            _span("rpm", (100.0, 3000.0), "range of the crank speed", unit="rpm", minimum=0),
+            _span("crank", (0.02, 0.2), "range of the crank", unit="m", maximum=100, positive=True),
+            _span("rpm", (100.0, 3000.0), "range of the crank speed", unit="rpm", maximum=1e6,
+                  positive=True),
             Option("degree", 6, "degree of the fitted curves", minimum=2, maximum=12),
         ),
         "si",
@@ -441,9 +446,12 @@ NOMOGRAMS = {
         "beam pump: displacement from plunger diameter, stroke and strokes/min (parallel "
         "chain)",
         Options(
-            _span("plunger", (1.0, 4.75), "range of plunger diameters", unit="in", minimum=0),
-            _span("stroke", (30.0, 300.0), "range of strokes", unit="in", minimum=0),
-            _span("spm", (4.0, 20.0), "range of pumping speeds", unit="spm", minimum=0),
+            _span("plunger", (1.0, 4.75), "range of plunger diameters", unit="in", maximum=100,
+                  positive=True),
+            _span("stroke", (30.0, 300.0), "range of strokes", unit="in", maximum=10000,
+                  positive=True),
+            _span("spm", (4.0, 20.0), "range of pumping speeds", unit="spm", maximum=1000,
+                  positive=True),
         ),
         "oilfield",
     ),
@@ -452,9 +460,9 @@ NOMOGRAMS = {
         "beam pump: gearbox torque from torque factor and net load (Z chart)",
         Options(
             _span("torque_factor", (10.0, 70.0), "range of torque factors", unit="in",
-                  minimum=0),
+                  maximum=10000, positive=True),
             _span("load", (2000.0, 30000.0), "range of net loads W - SU", unit="lbf",
-                  minimum=0),
+                  maximum=1e7, positive=True),
         ),
         "oilfield",
     ),
