@@ -336,7 +336,7 @@ def fitted_chain(
     from dataclasses import replace as _replace
 
     fr = (min(fa, fb), max(fa, fb))
-    pad = 1e-9 * (abs(fr[0]) + abs(fr[1]) + 1.0)
+    pad = 0.03 * (fr[1] - fr[0])  # a fitted isopleth may cross a little beyond the ends
     turning = _replace(
         line,
         xyz=lambda t: homogeneous(np.zeros(np.shape(t)), ma * (np.asarray(t, dtype=float) - fa)),
