@@ -381,6 +381,13 @@ def _add_optimize(sub) -> None:
     p.add_argument("--method", choices=("ipopt", "slsqp", "de"), help="override the file's method")
     p.add_argument("--starts", type=int, help="override the multi-start count")
     p.add_argument("--seed", type=int, help="override the seed")
+    p.add_argument(
+        "--time-limit",
+        type=float,
+        metavar="SECONDS",
+        help="no new start begins after this many seconds (the first always runs); the starts "
+        "run so far are certified and reported",
+    )
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument(
         "--animate",
@@ -398,7 +405,7 @@ def _optimize_run(args) -> int:
     if args.animate and not args.out:
         raise MechanismError("--animate writes optimum.gif: give --out DIR")
     spec = load_problem(args.problem)
-    overrides = {k: getattr(args, k) for k in ("method", "starts", "seed")}
+    overrides = {k: getattr(args, k) for k in ("method", "starts", "seed", "time_limit")}
     overrides = {k: v for k, v in overrides.items() if v is not None}
     if args.no_progress or args.json:
         overrides["progress"] = False

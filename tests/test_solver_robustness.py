@@ -168,3 +168,17 @@ def test_one_start_in_a_mostly_invalid_box_is_found_not_reported_as_a_failure():
     assert fb.time_ratio == pytest.approx(1.0, abs=1e-6)
     mu = fb.motion(ms.cycle(20000)).transmission_angle
     assert min(mu.min(), np.pi - mu.max()) == pytest.approx(res.value, abs=1e-7)
+
+
+def test_a_time_limit_stops_new_starts_and_says_so():
+    prob = ms.Problem(
+        ms.SliderCrank, variables={"crank": (0.01, 0.2), "rod": (0.05, 0.4), "offset": (0, 0.1)}
+    )
+    prob.minimize(ob.peak_acceleration("slider"))
+    prob.subject_to(ob.stroke("slider") == 0.1)
+    res = prob.solve(starts=8, time_limit=1e-6, progress=False)
+    assert res.certification.starts_run == 1  # the first start always runs
+    assert "time limit 1e-06 s reached: 1 of 8 starts ran" in res.message
+    assert res.success  # its run is certified as any other
+    with pytest.raises(ms.MechanismError, match="time_limit must be positive"):
+        prob.solve(time_limit=0)

@@ -324,6 +324,7 @@ class Problem:
         x0=None,
         polish: bool = True,
         de_options: dict | None = None,
+        time_limit: float | None = None,
     ):
         """Solve the problem.
 
@@ -348,6 +349,8 @@ class Problem:
         polish, de_options : for ``"de"``: local polish, and options of
             ``scipy.optimize.differential_evolution`` plus ``angles`` (uniform grid, default 256)
             and ``eq_rtol`` (equality tolerance, default 1e-4).
+        time_limit : seconds; no new start begins once it is spent (the first always runs):
+            the starts run so far are certified and reported, the message says how many.
 
         Returns
         -------
@@ -368,6 +371,7 @@ class Problem:
             x0=x0,
             polish=polish,
             de_options=de_options,
+            time_limit=time_limit,
         )
         return self._annotate(res)
 

@@ -446,9 +446,14 @@ def solve(
     x0=None,
     polish: bool = True,
     de_options: dict | None = None,
+    time_limit: float | None = None,
 ) -> Result:
     """Solve ``problem``; see :meth:`Problem.solve` for the arguments."""
     t_start = time.perf_counter()
+    if time_limit is not None:
+        from .. import validate
+
+        time_limit = validate.positive("time_limit", validate.number("time_limit", time_limit, "s"))
     if problem.objective is None:
         raise MechanismError("the problem has no objective: call minimize(...) or maximize(...)")
     if method not in ("ipopt", "slsqp", "de"):
@@ -479,7 +484,11 @@ def solve(
         return _failed_result(problem, method, starts, skipped, reason, t_start)
     runs: list[_Run] = []
     local = _LOCAL[local_method]
+    timed_out = False
     for z0, scales, tau0 in _progress(points, len(points), progress, f"{local_method} starts"):
+        if time_limit is not None and runs and time.perf_counter() - t_start > time_limit:
+            timed_out = True  # no new start past the budget; the runs so far are assessed
+            break
         P = tr.parameter_vector(grid, *scales)
         start = np.concatenate([z0, tau0])
         x, status, raw, it, lam = local(tr, start, P, options, None, len(grid))
@@ -521,7 +530,11 @@ def solve(
         return _de_result(
             problem, cross, z_de, rtol, n_dense, t_start, polish_failed=f"{status}: {best.raw}"
         )
-    if len(runs) < starts:
+    if timed_out:
+        message += (
+            f"; time limit {time_limit:g} s reached: {len(runs)} of {len(points)} starts ran"
+        )
+    elif len(runs) < starts:
         message += (
             f"; {len(runs)} of {starts} starts ran: only {len(runs)} valid start designs among "
             f"{tried} points tried (first invalid: {reason})"
