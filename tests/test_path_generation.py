@@ -410,3 +410,12 @@ def test_shape_only_needs_a_closed_path():
         ms.path_generation([(0, 0), (1, 0), (1, 1)], timing="shape", closed=False)
     with pytest.raises(MechanismError, match="takes no objective"):
         ms.path_generation([(0, 0), (1, 0), (1, 1)], timing="shape", objective="max")
+
+
+def test_open_path_straight_line():
+    """Six points on a straight line, an open path, a transmission angle of at least 30 deg:
+    a four-bar's coupler curve passes through all six (nine points fix a four-bar)."""
+    line = np.column_stack([np.linspace(0.0, 1.0, 6), np.zeros(6)])
+    r = ms.path_generation(line, closed=False, starts=4, min_transmission=ms.deg(30))
+    assert r.success and not r.closed and r.error < 1e-20
+    _check_independently(r.best, line, min_mu=ms.deg(30))
