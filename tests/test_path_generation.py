@@ -419,3 +419,18 @@ def test_open_path_straight_line():
     r = ms.path_generation(line, closed=False, starts=4, min_transmission=ms.deg(30))
     assert r.success and not r.closed and r.error < 1e-20
     _check_independently(r.best, line, min_mu=ms.deg(30))
+
+
+def test_transmission_front():
+    """The 12-point path's error against the smallest transmission angle: flat up to the
+    optimum's own 29.43 deg, then rising (the benchmark's front: 1.20887e-4 at 35 deg)."""
+    from mechsynth.synthesis.path_front import transmission_front
+
+    case = CASES["bulatovic-12"]
+    fr = transmission_front(case.targets, ms.deg(np.array([0.0, 35.0, 40.0])), starts=4)
+    assert fr.nondominated.all() and np.all(np.diff(fr.error) > 0)
+    assert fr.error[0] == pytest.approx(7.60894e-5, rel=1e-5)
+    assert fr.error[1] == pytest.approx(1.20887e-4, rel=1e-4)
+    np.testing.assert_allclose(fr.mu[1:], ms.deg(np.array([35.0, 40.0])), atol=1e-8)
+    assert fr.error_at(ms.deg(21.3)) == fr.error[0] < case.published_error
+    assert fr.error_at(ms.deg(36)) == fr.error[2]

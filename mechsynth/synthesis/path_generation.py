@@ -29,6 +29,12 @@ The model is the library's four-bar (:func:`~mechsynth.kinematics.four_bar.four_
 :func:`~mechsynth.kinematics.blocks.coupler_point`), traced on CasADi symbols for IPOPT's exact
 derivatives and evaluated in numpy for the checks. The global search starts IPOPT from the
 atlas's nearest curves by shape (:mod:`mechsynth.synthesis.path_atlas`), both branches.
+
+Beside the four-bar: any Linkage or the slider-crank (:mod:`.path_linkage`), the library's
+measures as constraints (:mod:`.path_measures`), shape-only timing (:mod:`.path_shape`); the
+results are :mod:`.path_result`'s, the cognates :mod:`.path_cognates`'s, the literature cases
+:mod:`.path_cases`'s, the error-transmission front :mod:`.path_front`'s. See
+``docs/path_generation.md``.
 """
 
 from __future__ import annotations
