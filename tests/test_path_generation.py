@@ -434,3 +434,15 @@ def test_transmission_front():
     np.testing.assert_allclose(fr.mu[1:], ms.deg(np.array([35.0, 40.0])), atol=1e-8)
     assert fr.error_at(ms.deg(21.3)) == fr.error[0] < case.published_error
     assert fr.error_at(ms.deg(36)) == fr.error[2]
+
+
+def test_ordered_initial_angles_of_a_linkage_start():
+    from mechsynth.synthesis.path_linkage import _ordered_nearest
+
+    phi = np.linspace(0, 2 * np.pi, 96, endpoint=False)
+    curve = np.column_stack([np.cos(phi), np.sin(phi)])
+    want = np.array([3.0, 4.0, 5.0, 6.0, 0.5 + 2 * np.pi, 1.0 + 2 * np.pi])
+    t = np.column_stack([np.cos(want), np.sin(want)])
+    got = _ordered_nearest(curve, phi, t)
+    assert np.all(np.diff(got) >= 0) and got[-1] - got[0] < 2 * np.pi
+    np.testing.assert_allclose(got, want, atol=np.pi / 96 + 1e-12)

@@ -170,11 +170,31 @@ def _nlp(lk, names, trace, n, timing, objective, constraints=(), speed=None):
 
 
 def _ordered_nearest(curve, phi, targets):
-    """Crank angles at the curve points nearest the targets, made increasing over one turn."""
-    d = ((targets[:, None, :] - curve[None, :, :]) ** 2).sum(-1)
-    a = phi[np.argmin(d, axis=1)]
-    a = a[0] + np.mod(a - a[0], 2 * np.pi)
-    return np.maximum.accumulate(a)
+    """Crank angles (from the equal steps ``phi`` of a turn) for the targets, in order within
+    one turn, that minimize the sum of squared distances to the curve's points there: dynamic
+    programming over the targets for every first angle at once."""
+    m = len(phi)
+    d = ((targets[:, None, :] - curve[None, :, :]) ** 2).sum(-1)  # (N, M)
+    # start s: the turn read from angle index s on; d_s[i, j] = d[i, (s + j) % M]
+    idx = (np.arange(m)[:, None] + np.arange(m)[None, :]) % m  # (S, M)
+    ds = d[:, idx].transpose(1, 0, 2)  # (S, N, M)
+    cost = ds[:, 0, :].copy()
+    for i in range(1, len(targets)):  # a target's angle at or after the previous one's
+        cost = ds[:, i, :] + np.minimum.accumulate(cost, axis=1)
+    s = int(np.argmin(cost.min(axis=1)))
+    # back: each target at the cheapest angle not after the next one's
+    j = int(np.argmin(cost[s]))
+    picks = [j]
+    acc = ds[s, 0, :].copy()
+    costs = [acc]
+    for i in range(1, len(targets) - 1):
+        acc = ds[s, i, :] + np.minimum.accumulate(acc)
+        costs.append(acc)
+    for i in range(len(targets) - 2, -1, -1):
+        j = int(np.argmin(costs[i][: j + 1]))
+        picks.append(j)
+    k = np.array(picks[::-1])
+    return phi[(s + k) % m] + 2.0 * np.pi * ((s + k) >= m) + 0.0 * k
 
 
 def linkage_path_generation(
