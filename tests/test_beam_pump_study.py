@@ -100,7 +100,8 @@ def test_files(result):
     for n in ("beam_pump_kinematics.png", "beam_pump_torque.png", "beam_pump_pressure_angle.png",
               "beam_pump_pareto.png", "beam_pump_extremes.csv", "beam_pump.json",
               "beam_pump_pitman_force.png", "beam_pump_pareto_velocity.png",
-              "beam_pump_pareto_velocity.csv"):  # fmt: skip
+              "beam_pump_pareto_velocity.csv", "beam_pump_speed_acceleration.png",
+              "beam_pump_speed_acceleration.csv"):  # fmt: skip
         assert n in names and (out / n).stat().st_size > 0
     data = json.loads((out / "beam_pump.json").read_text())
     assert set(data["variants"]) == {"axial", "2a", "2b"}
@@ -144,3 +145,19 @@ def test_velocity_pressure_front(result):
     assert np.all(np.diff([p["first"] for p in front]) <= 0)
     v_opt = res.data["recommendation_1"]["synthesis"]["velocity_optimal"]["value"]
     assert min(p["first"] for p in front) == pytest.approx(v_opt, rel=1e-5)
+
+
+@pytest.mark.slow
+def test_speed_acceleration_front(result):
+    # Recommendation 1's two objectives against each other (pressure angle <= 30 deg): a lower
+    # peak acceleration costs peak speed; the ends are the two syntheses.
+    res, _ = result
+    pts = [p for p in res.data["pareto_velocity_acceleration"]["points"] if p["success"]]
+    assert len(pts) >= 4
+    for p in pts:
+        assert p["second"] <= p["eps"] + 1e-6
+    front = sorted((p for p in pts if p["nondominated"]), key=lambda p: p["second"])
+    assert np.all(np.diff([p["first"] for p in front]) < 0)
+    syn = res.data["recommendation_1"]["synthesis"]
+    assert front[0]["second"] == pytest.approx(syn["acceleration_optimal"]["value"], rel=1e-5)
+    assert front[-1]["first"] == pytest.approx(syn["velocity_optimal"]["value"], rel=1e-6)
