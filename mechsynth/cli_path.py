@@ -57,6 +57,9 @@ def add_parser(sub) -> None:
         default="squares",
         help="sum of squared distances (default) or the largest (min-max)",
     )
+    p.add_argument("--direction", choices=("ccw", "cw", "either"), default="ccw",
+                   help="the crank's turn with free or shape timing: ccw (default, the "
+                   "literature's), cw, or either (both searched)")  # fmt: skip
     p.add_argument("--starts", type=int, default=16, help="local solves (default 16)")
     p.add_argument("--time-limit", metavar="SECONDS", type=float,
                    help="start no new solve after this time")  # fmt: skip
@@ -188,6 +191,7 @@ def run(args) -> int:
             time_limit=args.time_limit,
             constraints=constraints,
             speed=speed,
+            direction=args.direction,
         )
     data = res.as_dict()
     files = []

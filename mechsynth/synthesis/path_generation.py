@@ -290,6 +290,7 @@ def path_generation(
     seed: int = 0,
     constraints=None,
     speed: float | None = None,
+    direction: str = "ccw",
 ) -> PathResult:
     """A four-bar whose coupler point passes as near as possible to ``targets``.
 
@@ -329,12 +330,94 @@ def path_generation(
         to vary; for the slider-crank, bounds that replace the defaults). A general linkage
         starts from its own values and random designs that assemble; ``seed`` fixes those.
 
+    direction : the crank's turn with free (or shape) timing: ``"ccw"`` (counter-clockwise,
+        the crank angles increase from target to target: the literature's), ``"cw"`` (they
+        decrease), or ``"either"`` (both searched, ``starts`` each).
+
     Returns
     -------
     PathResult : the best design, its error, crank angles, joint positions and transmission
         range, the distinct solutions, the number of starts. Ctrl-C stops the search and keeps
         the best design found so far (status ``"interrupted"``).
     """
+    validate.option("direction", direction, ("ccw", "cw", "either"))
+    kw = dict(timing=timing, angles=angles, closed=closed, min_transmission=min_transmission,
+              objective=objective, bounds=bounds, starts=starts, time_limit=time_limit,
+              feasibility_margin=feasibility_margin, progress=progress, mechanism=mechanism,
+              trace=trace, variables=variables, seed=seed, constraints=constraints,
+              speed=speed)  # fmt: skip
+    if direction == "ccw":
+        return _path_generation(targets, **kw)
+    if timing == "prescribed":
+        raise MechanismError(
+            "direction is for free or shape timing: prescribed angles give the crank's turn"
+        )
+    t = read_targets(targets, closed=bool(closed)) if isinstance(closed, bool) else targets
+    results = [] if direction == "cw" else [_path_generation(t, **kw)]
+    results.append(_reversed(_path_generation(t[::-1], **kw), t))
+    if len(results) == 1:
+        return results[0]
+    return _merged(results, t)
+
+
+def _reversed(res: PathResult, t) -> PathResult:
+    """A result on the reversed targets as one on ``t`` with the crank turning clockwise: each
+    solution's angles back in the targets' order (decreasing)."""
+    from dataclasses import replace
+
+    sols = tuple(replace(s, angles=s.angles[::-1].copy()) for s in res.solutions)
+    return replace(res, targets=t, solutions=sols, best=sols[0] if sols else None)
+
+
+def _merged(results, t) -> PathResult:
+    """Both turns' results as one, solutions ranked by error."""
+    from dataclasses import replace
+
+    sols = sorted((s for r in results for s in r.solutions), key=lambda s: s.error)
+    rank = {id(s): k for k, s in enumerate(sols, start=1)}
+    for r in results:  # a cognate's note names its original's rank in the merged list
+        for s in r.solutions:
+            if s.note == "cognate of #1" and r.best is not None:
+                k = rank[id(s)]
+                sols[k - 1] = replace(s, note=f"cognate of #{rank[id(r.best)]}")
+    ok = [r for r in results if r.best is not None]
+    status = "interrupted" if any(r.status == "interrupted" for r in results) else (
+        "optimal" if sols else "infeasible"
+    )  # fmt: skip
+    return replace(
+        results[0],
+        targets=t,
+        best=sols[0] if sols else None,
+        solutions=tuple(sols),
+        starts=sum(r.starts for r in results),
+        distinct=sum(r.distinct for r in results),
+        status=status,
+        seconds=sum(r.seconds for r in results),
+        message="" if ok else results[0].message,
+    )
+
+
+def _path_generation(
+    targets,
+    *,
+    timing,
+    angles,
+    closed,
+    min_transmission,
+    objective,
+    bounds,
+    starts,
+    time_limit,
+    feasibility_margin,
+    progress,
+    mechanism,
+    trace,
+    variables,
+    seed,
+    constraints,
+    speed,
+) -> PathResult:
+    """:func:`path_generation` for a counter-clockwise crank."""
     t_start = time.perf_counter()
     from .path_measures import check_types
 
