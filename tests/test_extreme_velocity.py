@@ -155,6 +155,7 @@ def test_stroke_crank_angle_formula_7_matches_dead_centres():
         assert stroke_crank_angle(a, b, e) == pytest.approx(longer, abs=1e-12)
 
 
+@pytest.mark.slow
 def test_study_rows_and_errata(tmp_path):
     result = run(out=tmp_path)
     assert len(result.data["rows"]) == len(TABLE_1)
@@ -175,3 +176,6 @@ def test_study_cli_json(capsys):
     data = json.loads(capsys.readouterr().out)
     assert [r["lambda"] for r in data["rows"]] == [row[0] for row in TABLE_1]
     assert data["errata"]
+    assert any("eq. (3)" in e and "minus sign" in e for e in data["errata"])
+    assert data["reference_chart"]["feasible_points"] > 5000
+    assert data["coverage"]["study"] == "extreme-velocity"

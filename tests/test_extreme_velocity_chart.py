@@ -102,6 +102,7 @@ def test_chart_against_dense_sampling_and_mirror(chart):
     np.testing.assert_allclose(ev.maximum.value, chart["s_max"].ravel()[idx], rtol=1e-12)
 
 
+@pytest.mark.slow
 def test_chart_figure_is_clean(chart, tmp_path, monkeypatch):
     from matplotlib.figure import Figure
 
