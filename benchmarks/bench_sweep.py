@@ -38,7 +38,7 @@ def hand_written(lam, eps, block=2048):
     """The chart's four measures by hand on ``slider_crank_batch``; NaN where infeasible."""
     L, E = np.meshgrid(lam, eps, indexing="ij")
     L, E = L.ravel(), E.ravel()
-    ok = L > 1.0 + np.abs(E)
+    ok = L > (1.0 + np.abs(E)) * (1.0 + 1e-9)  # clear of the limit by more than round-off
     li, ei = L[ok], E[ok]
     unit = ms.SliderCrank(crank=1.0, rod=li[:, None], offset=ei[:, None])
     crank = H / np.asarray(unit.stroke)[:, 0]

@@ -34,7 +34,7 @@ import json
 import threading
 import time
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -690,8 +690,9 @@ def _dumps(spec) -> bytes:
 _SPECS: dict = {}  # in a worker: the specs already unpickled, by their bytes' digest
 
 
-def _remote_block(payload: bytes, c: int) -> _BlockResult | None:
-    """A worker's task: unpickle the spec once per process, evaluate chunk ``c``."""
+def _remote_block(payload: bytes, c: int, count: int = 1) -> _BlockResult | None:
+    """A worker's task: unpickle the spec once per process, evaluate chunks ``c`` ...
+    ``c + count - 1`` (consecutive designs) as one result."""
     import hashlib
     import pickle
 
@@ -701,7 +702,79 @@ def _remote_block(payload: bytes, c: int) -> _BlockResult | None:
         _keep_freed_memory()  # the worker's malloc, as the sweep's own process
         _SPECS.clear()
         spec = _SPECS[key] = pickle.loads(payload)
-    return _sweep_block(spec, c)
+    return _joined([_sweep_block(spec, i) for i in range(c, c + count)])
+
+
+def _joined(blocks) -> _BlockResult | None:
+    """Consecutive chunks' results as one."""
+    blocks = [b for b in blocks if b is not None]
+    if len(blocks) <= 1:
+        return blocks[0] if blocks else None
+    names = dict.fromkeys(name for b in blocks for name in b.params)
+    # a chunk without a feasible design has no parameters: zeros there, as in one process
+    params = {
+        name: np.concatenate([b.params.get(name, np.zeros(b.ok.size)) for b in blocks])
+        for name in names
+    }
+    return _BlockResult(
+        start=blocks[0].start,
+        ok=np.concatenate([b.ok for b in blocks]),
+        values={k: np.concatenate([b.values[k] for b in blocks]) for k in blocks[0].values},
+        params=params,
+        reason=next((b.reason for b in blocks if b.reason), ""),
+    )
+
+
+#: doubles in a chunk's block of kinematics on the compiled kernels (32 MiB): per chunk the
+#: sweep pays about 1 ms of Python (building the batch, the measures' calls); on the kernels a
+#: chunk of 2**16 design-angle evaluations (182 designs at 360 angles) is itself only 1-2 ms, so
+#: a 1e6-design slider-crank chart took 2.0 x a hand-written loop, and 1.05 x with chunks of
+#: 2**22 / 8 rows (1,456 designs; bench_sweep_scaling.py). The numpy model keeps 2**16
+#: evaluations per chunk: its dozens of temporaries stay in the cache.
+KERNEL_BLOCK = 2**22
+MODEL_CHUNK = 2**16
+
+#: seconds an executor spends per task beyond its work (send, schedule, receive), measured on
+#: 2 cores (benchmarks/bench_sweep_dask.py): a Dask LocalCluster 4-9 ms per task, a process pool
+#: 0.14 ms; other executors are taken as a process pool
+TASK_OVERHEAD = {"distributed": 8e-3, "default": 2e-4}
+
+#: seconds per design-angle evaluation of a chunk with its measures, measured on 2 cores, one
+#: thread (bench_sweep_scaling.py, bench_linkage_compiled.py): the four-bar and slider-crank
+#: kernels, a Linkage's generated kernel, the numpy model
+EVALUATION_COST = {"named kernel": 1.5e-8, "linkage kernel": 8e-8, "model": 1.5e-6}
+
+
+def _default_chunk(spec, kernel_rows: int | None) -> int:
+    """Designs per chunk: a block of :data:`KERNEL_BLOCK` doubles on the kernels (``rows``
+    outputs per evaluation), :data:`MODEL_CHUNK` evaluations on the model."""
+    m = max(spec.phi.size, 1)
+    if kernel_rows:
+        return max(1, KERNEL_BLOCK // (kernel_rows * m))
+    return max(1, MODEL_CHUNK // m)
+
+
+def _kernel_rows(spec) -> int | None:
+    """Rows of the kernels' block per evaluation when the sweep runs on compiled kernels."""
+    kernel = _linkage_kernel(spec)
+    if kernel is not None:
+        return kernel.outputs
+    return 8 if _on_kernels(spec) else None
+
+
+def _chunks_per_task(executor, spec, rows, n_chunks) -> int:
+    """Chunks one executor task evaluates: enough that the task's work is at least 20 times the
+    executor's per-task overhead (:data:`TASK_OVERHEAD`), while leaving at least 8 tasks to
+    share among the workers."""
+    module = type(executor).__module__ or ""
+    overhead = TASK_OVERHEAD["distributed" if module.startswith("distributed") else "default"]
+    if rows is None:
+        cost = EVALUATION_COST["model"]
+    else:
+        cost = EVALUATION_COST["linkage kernel" if rows != 8 else "named kernel"]
+    work = spec.chunk * spec.phi.size * cost  # seconds per chunk
+    want = int(np.ceil(20.0 * overhead / max(work, 1e-12)))
+    return int(max(1, min(want, n_chunks // 8)))
 
 
 _EXECUTOR: contextvars.ContextVar = contextvars.ContextVar("sweep_executor", default=None)
@@ -829,8 +902,10 @@ def sweep(
         before ``design`` is applied (``design`` only sees valid ones).
     angles : crank angles per cycle (count of equal steps, or an array in rad).
     speed : crank speed (rad/s) for velocities and accelerations; None gives analogs.
-    chunk : designs per batch (default: about 2**16 design-angle points per batch, which keep
-        the temporaries of the kinematics in cache).
+    chunk : designs per batch (default: on the compiled kernels, a block of
+        :data:`KERNEL_BLOCK` doubles of their outputs -- 1,456 slider-cranks at 360 angles --
+        which makes the Python cost per chunk small beside its work; on the numpy model,
+        :data:`MODEL_CHUNK` design-angle points, which keep its temporaries in cache).
     progress : show a tqdm bar over the chunks (only on a terminal).
     labels : ``{grid name: axis label with unit}`` for the figure.
     workers : threads evaluating chunks in parallel (numpy releases the GIL in its array
@@ -844,8 +919,9 @@ def sweep(
         the tests compare with).
     executor : a :class:`concurrent.futures.Executor` that evaluates the chunks (e.g.
         ``ProcessPoolExecutor()``, or ``dask.distributed.Client(address).get_executor()`` for
-        a cluster); each task evaluates one chunk where it runs and returns only the chunk's
-        measures, feasibility and parameters. The sweep's functions travel by pickle (by
+        a cluster); each task evaluates a run of consecutive chunks where it runs -- enough
+        work to outweigh the executor's measured per-task cost (:data:`TASK_OVERHEAD`), at
+        least 8 tasks -- and returns only their measures, feasibility and parameters. The sweep's functions travel by pickle (by
         cloudpickle when plain pickle cannot take them, e.g. local functions). ``"processes"``:
         a pool of fresh processes, one per core, for this sweep (a script must guard its main
         code with ``if __name__ == "__main__":``). ``"auto"``: that pool when the motion runs
@@ -909,14 +985,13 @@ def sweep(
             raise UsageError(f"measure {label!r} must be a Measure or a function, got {m!r}")
     shape = tuple(a.size for a in axes.values())
     total = int(np.prod(shape))
-    if chunk is None:
-        chunk = max(1, 2**16 // max(phi.size, 1))
-    chunk = validate.integer("chunk", chunk, 1)
+    if chunk is not None:
+        chunk = validate.integer("chunk", chunk, 1)
     spec = _SweepSpec(
         mechanism=mechanism,
         axes=axes,
         shape=shape,
-        chunk=chunk,
+        chunk=chunk or 1,
         fixed=fixed,
         design=design,
         feasible=feasible,
@@ -925,6 +1000,10 @@ def sweep(
         speed=speed,
         kernels=bool(kernels),
     )
+    rows = _kernel_rows(spec)
+    if chunk is None:
+        spec = replace(spec, chunk=_default_chunk(spec, rows))
+    chunk = spec.chunk
     ok_all = np.zeros(total, dtype=bool)
     out = {label: np.zeros(total) for label in bound}
     par_out: dict[str, np.ndarray] = {}
@@ -951,7 +1030,10 @@ def sweep(
         # any concurrent.futures.Executor (a process pool, a Dask cluster's executor): each
         # task evaluates one block and sends back only its reduced measures
         payload = _dumps(spec)
-        results = executor.map(_remote_block, [payload] * n_chunks, range(n_chunks))
+        per = _chunks_per_task(executor, spec, rows, n_chunks)
+        firsts = range(0, n_chunks, per)
+        counts = [min(per, n_chunks - c) for c in firsts]
+        results = executor.map(_remote_block, [payload] * len(counts), firsts, counts)
     elif workers == 1:
         results = (_sweep_block(spec, c) for c in range(n_chunks))
     else:
@@ -968,10 +1050,13 @@ def sweep(
                 for label, v in res.values.items():
                     out[label][idx] = v
                 for name, v in res.params.items():
-                    par_out.setdefault(name, np.zeros(total))[idx] = v
+                    dest = par_out.get(name)
+                    if dest is None:  # not setdefault: its default would be built every chunk
+                        dest = par_out[name] = np.zeros(total)
+                    dest[idx] = v
                 if res.reason and not reason:
                     reason = res.reason
-            bar.update()
+            bar.update(1 if res is None else -(-res.ok.size // chunk))
     finally:
         if pool is not None:
             pool.shutdown(wait=True, cancel_futures=True)
