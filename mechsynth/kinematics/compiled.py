@@ -389,8 +389,9 @@ def _numpy_rows(model, rows, out):
 def _scaled(cls, out, speed, backend):
     w = _speed(speed)
     if w != 1.0:
-        out[[1, 4]] *= w
-        out[[2, 5]] *= w * w
+        w2 = w * w
+        for r, f in ((1, w), (4, w), (2, w2), (5, w2)):  # in place: fancy indexing copies
+            out[r] *= f
     # ``cls(*out, backend=backend)`` without the frozen dataclass's ``__init__`` (one
     # ``object.__setattr__`` per field: for one design a good part of the call)
     res = object.__new__(cls)
