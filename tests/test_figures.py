@@ -168,6 +168,14 @@ def test_command_figures(checked, tmp_path):
         )
         == 0
     )
+    assert (
+        main(
+            ["animate", str(EXAMPLES / "design_beam_pump.toml"), "--out", str(tmp_path)]
+            + ["--frames", "4", "--dpi", "30"]
+        )
+        == 0
+    )  # a long design name: the title was cut at the top
     assert "optimum.png" in checked and "design_dwell.png" in checked
+    assert "design_beam_pump.png" in checked
     assert len(checked) >= 4
     _assert_clean(checked, [])

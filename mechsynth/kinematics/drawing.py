@@ -32,10 +32,22 @@ LINK_COLOUR = PALETTE[4]
 TRACE_COLOURS = (PALETTE[5], PALETTE[3], PALETTE[6], PALETTE[1], PALETTE[2])
 
 
+def _parts(text: str) -> list[str]:
+    """``text`` split at ``", "`` outside parentheses (``"a, b (c, d)"``: ``a``, ``b (c, d)``)."""
+    parts, depth, start = [], 0, 0
+    for i, ch in enumerate(text):
+        depth += (ch == "(") - (ch == ")")
+        if depth == 0 and text.startswith(", ", i):
+            parts.append(text[start:i])
+            start = i + 2
+    return [*parts, text[start:]]
+
+
 def _wrapped(text: str, width: int = 64) -> str:
-    """``text`` broken into lines at ``", "`` (never inside a value and its unit)."""
+    """``text`` broken into lines at ``", "`` (never inside a value and its unit, nor inside
+    parentheses)."""
     lines, line = [], ""
-    for part in text.split(", "):
+    for part in _parts(text):
         candidate = f"{line}, {part}" if line else part
         if line and len(candidate) > width:
             lines.append(line + ",")
@@ -325,7 +337,12 @@ def draw_sketch(
     if isinstance(title, str):
         ax.set_title(title, fontsize=10)
     elif title is None and fresh:
-        ax.set_title(f"{_wrapped(sketch.name)}\n{_angle_text(sketch, frame)}", fontsize=10)
+        text = f"{_wrapped(sketch.name)}\n{_angle_text(sketch, frame)}"
+        ax.set_title(text, fontsize=10)
+        extra = text.count("\n") - 1  # the size leaves room for two lines of title
+        if extra > 0:  # a long design name: a taller figure, not a title cut at the top
+            fig = ax.figure
+            fig.set_figheight(fig.get_figheight() + 0.2 * extra)
     if trace:
         ax.legend(loc="best", fontsize=8)
     return ax
@@ -511,6 +528,8 @@ def animate_sketch(
     head = title or _wrapped(sketch.name)
     # the still title is drawn once; the short line under it changes per frame
     fig.suptitle(f"{head}\n{sketch.angle_label}, {playback}", fontsize=9)
+    if figsize is None and head.count("\n"):  # room for a long name's lines, not a cut label
+        fig.set_figheight(fig.get_figheight() + 0.18 * head.count("\n"))
     text = ax.set_title("", fontsize=9)
 
     def update(i):
