@@ -85,7 +85,7 @@ def test_extreme_velocity_study_figures(checked, tmp_path):
     from mechsynth.studies import run_study
 
     run_study("extreme-velocity", out=tmp_path)
-    _assert_clean(checked, ["velocity_analogs.png"])
+    _assert_clean(checked, ["velocity_analogs.png", "extreme_velocity_chart.png"])
 
 
 @pytest.mark.slow
@@ -100,6 +100,7 @@ def test_nail_header_study_figures(checked, tmp_path):
             "nail_header_hodographs.png",
             "nail_header_slider_mass.png",
             "nail_header_speed.png",
+            "nail_header_balance.png",
         ],
     )
     assert (tmp_path / "nail_header.gif").stat().st_size > 0
@@ -117,6 +118,9 @@ def test_beam_pump_study_figures(checked, tmp_path):
             "beam_pump_torque.png",
             "beam_pump_pressure_angle.png",
             "beam_pump_pareto.png",
+            "beam_pump_pitman_force.png",
+            "beam_pump_pareto_velocity.png",
+            "beam_pump_speed_acceleration.png",
         ],
     )
     assert (tmp_path / "beam_pump.gif").stat().st_size > 0

@@ -27,7 +27,7 @@ from .problem_file import MECHANISMS, parse_quantity
 __all__ = ["DesignSpec", "load_design", "design_mechanisms", "read_toml", "register_design"]
 
 _TOP_KEYS = {"mechanism", "speed", "trace", "design", "title"}
-_TEXT = ("branch", "unit_class", "rotation")
+_TEXT = ("branch", "unit_class", "rotation", "spring_zero")
 
 
 #: mechanisms that design files name beyond those of problem files (the machines register theirs)
