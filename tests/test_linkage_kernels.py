@@ -105,6 +105,45 @@ def test_kernel_is_one_per_structure_and_kept_on_disk():
     assert "so.cos" not in loop and "so.sin" not in loop and "so.arccos" not in loop
 
 
+def test_a_kernel_is_found_by_its_structure_without_tracing(monkeypatch):
+    """The structure's record gives the traced kernel's parameters, layout and source; a record
+    whose module differs from its digest is not used (the solve is traced again)."""
+    lk = six_link()
+    kernel = lkk.linkage_kernel(lk)
+    index = lkk._index_path(lkk._structure(lk))
+    assert index.is_file()
+    assert lkk._read_index(index) == (kernel.names, kernel.layout, kernel.source)
+    monkeypatch.setattr(lkk, "_KERNELS", {})
+    monkeypatch.setattr(lkk, "_trace", lambda *a: pytest.fail("traced although recorded"))
+    again = lkk.linkage_kernel(lk)
+    assert (again.names, again.layout, again.source) == (kernel.names, kernel.layout, kernel.source)
+    phi = ms.cycle(36)
+    out, flags = again(np.array([[lk.parameters[k] for k in again.names]]), phi)
+    ref, _ = kernel(np.array([[lk.parameters[k] for k in kernel.names]]), phi)
+    np.testing.assert_array_equal(out, ref)
+    # another structure has another record; a different model (its source files) another key
+    assert lkk._index_path(lkk._structure(lk.rename(DB="rocker"))) != index
+    monkeypatch.setattr(lkk, "_model_digest", lambda: "another model")
+    assert lkk._index_path(lkk._structure(lk)) != index
+
+
+def test_a_damaged_structure_record_is_not_used(tmp_path, monkeypatch):
+    import json
+
+    monkeypatch.setenv("MECHSYNTH_CACHE_DIR", str(tmp_path))
+    index = lkk.cache_dir() / "structure_x.json"
+    assert lkk._read_index(index) is None  # absent
+    lkk._write_index(index, ("a",), (("points", "A", 0, 6),), "source text")
+    assert lkk._read_index(index) is None  # its module is missing
+    (lkk.cache_dir() / json.loads(index.read_text())["module"]).write_text("other text")
+    assert lkk._read_index(index) is None  # the module is not the one recorded
+    (lkk.cache_dir() / json.loads(index.read_text())["module"]).write_text("source text")
+    assert lkk._read_index(index) == (("a",), (("points", "A", 0, 6),), "source text")
+    index.write_text("{not json")
+    assert lkk._read_index(index) is None
+    assert lkk._index_path(("<object at 0x7f00>",)) is None  # no stable text, no record
+
+
 def test_cache_dir_follows_the_environment(tmp_path, monkeypatch):
     monkeypatch.setenv("MECHSYNTH_CACHE_DIR", str(tmp_path / "c"))
     assert lkk.cache_dir() == tmp_path / "c" / "linkage_kernels"
@@ -229,8 +268,9 @@ import mechsynth as ms
 from mechsynth.kinematics import compiled, linkage_kernels as lkk
 lk = ms.six_link()
 kernel = lkk.linkage_kernel(lk)
+import sys
 print(compiled.cached_on_disk([kernel.serial]), sum(kernel.serial.stats.cache_misses.values()),
-      sum(kernel.serial.stats.cache_hits.values()))
+      sum(kernel.serial.stats.cache_hits.values()), "casadi" in sys.modules)
 """
 
 
@@ -254,5 +294,8 @@ def test_a_later_process_loads_the_kernel_from_the_disk_cache(tmp_path):
         assert r.returncode == 0, r.stderr
     assert "compiling a kernel" in runs[0].stderr  # a new cache: compiled and announced
     assert runs[1].stderr == ""  # loaded, not announced
-    assert runs[1].stdout.split() == ["True", "0", "1"]  # a cache hit, no miss
+    # a cache hit, no miss; found by its structure: CasADi not imported, the solve not traced
+    assert runs[0].stdout.split() == ["True", "1", "0", "True"]
+    assert runs[1].stdout.split() == ["True", "0", "1", "False"]
+    assert len(list(tmp_path.rglob("structure_*.json"))) == 1
     assert len(list(tmp_path.rglob("mechsynth_linkage_*.py"))) == 1  # one module, not two
