@@ -92,6 +92,27 @@ def test_kernel_equals_the_models_motion(name, speed):
     _same_motion(batch.motion(phi, speed=speed), motion)
 
 
+@pytest.mark.parametrize("name", ["six-link", "carried guide", "driving slider"])
+def test_one_design_on_the_kernel_equals_the_models_motion(name):
+    """A design of numbers goes to the kernel as one row (the batch path's columns skipped);
+    angles that are a view, read-only or of another dtype are copied once, never a new
+    compiled signature."""
+    lk, _ = _batch(name)
+    kernel = lkk.linkage_kernel(lk)
+    phi = _phi(lk)
+    motion, good, failed = lkk.linkage_batch(lk, phi, speed=ms.rpm(600), kernel=kernel)
+    assert good.all() and not failed.any()
+    _same_motion(lk.motion(phi, speed=ms.rpm(600)), motion)
+    signatures = len(kernel.serial.signatures)
+    frozen = phi.copy()
+    frozen.flags.writeable = False
+    wide = np.repeat(phi, 2)[::2]  # a strided view
+    for grid in (frozen, wide, phi.astype(">f8"), list(phi)):
+        again, _, _ = lkk.linkage_batch(lk, grid, speed=ms.rpm(600), kernel=kernel)
+        _same_motion(motion, again, tol=1e-15)
+    assert len(kernel.serial.signatures) == signatures
+
+
 def test_kernel_is_one_per_structure_and_kept_on_disk():
     lk = six_link()
     k1 = lkk.linkage_kernel(lk)

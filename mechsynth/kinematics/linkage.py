@@ -1105,8 +1105,11 @@ class Linkage(Drawable):
         crank_key = self._groups[0].key
         zero = 0.0 * st.points[crank_key].x
         points = {}
+        owner = self._owner
         for name, p in st.points.items():
-            if name in self._owner and self._owner[name] == FRAME:
+            # a frame point's jet holds its coordinates (numbers): made tracks of the motion's
+            # shape (a kernel's rows are full tracks already)
+            if not scaled and owner.get(name) == FRAME:
                 p = PointJet(p.x + zero, p.y + zero, zero, zero, zero, zero)
             points[name] = PointTrack.from_jet(p, omega, eps)
         links = {name: LinkTrack.from_jet(j, omega, eps) for name, j in st.links.items()}

@@ -47,6 +47,12 @@ from pathlib import Path
 
 import numpy as np
 
+from . import ops
+from .linkage_groups import _State
+from .mechanism import speed_pair
+from .ops import cos_sin
+from .tracks import Jet, PointJet
+
 __all__ = ["LinkageKernel", "linkage_kernel", "cache_dir", "linkage_batch"]
 
 # casadi operation -> Python expression over the inputs {0}, {1} (scalar_ops as ``so``)
@@ -150,8 +156,10 @@ class LinkageKernel:
         if flags is None:
             flags = np.empty((n, 2))
         parallel = (n * m >= PARALLEL_MIN) if threads is None else bool(threads)
-        phi = np.array(phi, dtype=float)  # a writable copy: one array type per kernel
-        c, s = np.cos(phi), np.sin(phi)
+        if not (type(phi) is np.ndarray and phi.dtype == np.float64 and phi.flags.c_contiguous
+                and phi.flags.writeable):  # fmt: skip
+            phi = np.array(phi, dtype=float)  # one array type per kernel: writable, contiguous
+        c, s = cos_sin(phi)  # the last grid's, remembered (the kernel only reads them)
         w, e = (1.0, 0.0) if speed is None else (float(speed[0]), float(speed[1]))
         if parallel:
             with announce_compilation(
@@ -528,13 +536,9 @@ def linkage_batch(linkage, phi, speed=None, workspace=None, kernel=None):
     (a group cannot close, by a margin far beyond round-off: the model raises there). The
     others (a toggle, or within round-off of closing) are the model's to judge.
     """
-    from . import ops
-    from .linkage_groups import _State
-    from .mechanism import speed_pair
-    from .tracks import Jet, PointJet
-
-    values = linkage.parameters
-    if any(ops.is_symbolic(v) for v in values.values()):
+    values = linkage._values
+    scalars = all(type(v) is float for v in values.values())
+    if not scalars and any(ops.is_symbolic(v) for v in values.values()):
         return None
     phi = np.asarray(phi, dtype=float)
     if phi.ndim != 1:
@@ -542,11 +546,15 @@ def linkage_batch(linkage, phi, speed=None, workspace=None, kernel=None):
     kernel = kernel or linkage_kernel(linkage)
     if kernel is None:
         return None
-    cols = [np.asarray(values[k], dtype=float).reshape(-1) for k in kernel.names]
-    n = max(c.size for c in cols)
-    params = np.empty((n, len(cols)))
-    for j, c in enumerate(cols):
-        params[:, j] = c
+    if scalars:  # one design: its row at once
+        params = np.array([[values[k] for k in kernel.names]])
+        n = 1
+    else:
+        cols = [np.asarray(values[k], dtype=float).reshape(-1) for k in kernel.names]
+        n = max(c.size for c in cols)
+        params = np.empty((n, len(cols)))
+        for j, c in enumerate(cols):
+            params[:, j] = c
     m = phi.size
     if workspace is not None:
         out = workspace.block(n, m, rows=kernel.outputs)
@@ -557,13 +565,16 @@ def linkage_batch(linkage, phi, speed=None, workspace=None, kernel=None):
     good = flags[:, 0] == 0.0
     failed = ~good & (flags[:, 1] < -1e-6)
     st = _State(phi, values, True, linkage._bodies)
+    targets = {kind: getattr(st, kind) for kind in _KINDS}
+    rows = list(out)  # the block's rows as views, made at once
     for kind, key, off, size in kernel.layout:
-        rows = out[off : off + size]
-        target = getattr(st, kind)
-        if kind == "points":
-            target[key] = PointJet(*rows)
-        elif kind in ("links", "sliders"):
-            target[key] = Jet(*rows)
+        if size == 1:
+            targets[kind][key] = rows[off]
+        elif kind == "points":
+            targets[kind][key] = PointJet(*rows[off : off + 6])
         else:
-            target[key] = rows[0]
+            targets[kind][key] = Jet(*rows[off : off + 3])
     return linkage._motion(st, phi, omega, eps, scaled=True), good, failed
+
+
+_KINDS = ("points", "links", "sliders", "pressure", "transmission", "margins", "extra")
