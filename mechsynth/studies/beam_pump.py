@@ -34,6 +34,7 @@ from ..machines.pumping_unit import (
     optimal_counterbalance,
     paper_crank_and_pitman,
     peak_torque_factor,
+    rod_clearance,
     torque_curve,
     torque_factor_table,
 )
@@ -54,6 +55,10 @@ SPEED_SPM = 6.0
 CARD_UP, CARD_DOWN = 80e3, 45e3  # N, idealized rectangular card (assumed)
 PRESSURE_LIMIT_DEG = 30.0
 TF_LIMIT = 1.5  # m/rad
+#: the polished rod hangs this far outside the crank circle at least (m): room for the
+#: counterweights beyond the crank pin and the rod's clamp (assumed); without it the
+#: acceleration optimum hung the rod 0.47 m inside its own 1.12 m crank circle
+ROD_CLEARANCE = 0.3
 #: the design box of the synthesis (m): the centre bearing behind the crankshaft, as the Mark II
 SYNTHESIS_BOUNDS = {
     "crank": (0.5, 1.6),
@@ -232,7 +237,8 @@ def pitman_table(units, theta, speed, card):
 
 # ------------------------------------------------------------------------------ synthesis
 def _base_problem(base):
-    """Crank, pitman and pivot position of a Mark II-type unit on the base beam, at 6 SPM."""
+    """Crank, pitman and pivot position of a Mark II-type unit on the base beam, at 6 SPM, with
+    the polished rod clear of the crank circle (:data:`ROD_CLEARANCE`)."""
     from ..synthesis import Problem
 
     prob = Problem(
@@ -246,6 +252,7 @@ def _base_problem(base):
         },
         speed=spm(SPEED_SPM),
     )
+    prob.subject_to(rod_clearance() >= ROD_CLEARANCE)
     return prob
 
 

@@ -26,7 +26,7 @@ from .beam_unit import (
     harmonic_approximation,
     paper_crank_and_pitman,
 )
-from .measures import PUMPING_MEASURES, peak_torque_factor
+from .measures import PUMPING_MEASURES, peak_torque_factor, rod_clearance
 from .rod_string import RodString, wave_equation_card
 from .spatial_design import (
     CounterbalanceSizing,
@@ -65,6 +65,7 @@ __all__ = [
     "harmonic_approximation",
     "paper_crank_and_pitman",
     "peak_torque_factor",
+    "rod_clearance",
     "PUMPING_MEASURES",
     "DynamometerCard",
     "TorqueCurve",

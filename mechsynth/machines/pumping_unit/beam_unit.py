@@ -544,7 +544,12 @@ class BeamPumpingUnit(Mechanism):
             return np.stack([rod, rod], 1), np.stack(np.broadcast_arrays(top, bottom), 1)
 
         post = 0.3 * oy
+        # the circle the crank (and its counterweights' pin radius) sweeps: the polished rod
+        # must clear it (``studies.beam_pump.rod_clearance``)
+        ring = np.linspace(0.0, 2.0 * np.pi, 73)
+        r = float(self.crank)
         outlines = (
+            Outline("crank circle", r * np.cos(ring), r * np.sin(ring), "thin"),
             Outline("horsehead", ox + a_len * np.cos(arc), oy + a_len * np.sin(arc)),
             Outline("bridle", *vertical(oy, carrier), "thin"),
             Outline(

@@ -2,7 +2,9 @@
 
 The polished rod is the unit's main slider (``"slider"`` / ``"polished_rod"``), so the kinematic
 measures apply directly (``peak_acceleration("slider")``, ``stroke("slider")``,
-``max_pressure_angle()``, ``time_ratio()``). This module adds the torque factor.
+``max_pressure_angle()``, ``time_ratio()``). This module adds the torque factor and the
+polished rod's clearance from the crank circle (a unit whose crank sweeps through its own rod
+cannot be built: bound it from below in every synthesis).
 """
 
 from __future__ import annotations
@@ -10,7 +12,7 @@ from __future__ import annotations
 from ...errors import MechanismError
 from ...objectives.base import CycleMeasure
 
-__all__ = ["peak_torque_factor", "PUMPING_MEASURES"]
+__all__ = ["peak_torque_factor", "rod_clearance", "PUMPING_MEASURES"]
 
 
 def _tf(mechanism, motion):
@@ -36,5 +38,17 @@ def peak_torque_factor() -> CycleMeasure:
     )
 
 
+def rod_clearance() -> CycleMeasure:
+    """Smallest distance (m) between the polished rod's vertical line and the circle of the
+    crank's radius about the crankshaft over the cycle (negative: the crank sweeps through the
+    rod). Bound it by the room the counterweights and the rod clamp need, e.g.
+    ``rod_clearance() >= 0.3``."""
+    import numpy as np
+
+    from ...objectives.clearance import clearance
+
+    return clearance("PR", circle=("O1", "crank"), direction=np.pi / 2, name="rod_clearance")
+
+
 #: name -> factory, for problem files
-PUMPING_MEASURES = {"peak_torque_factor": peak_torque_factor}
+PUMPING_MEASURES = {"peak_torque_factor": peak_torque_factor, "rod_clearance": rod_clearance}
