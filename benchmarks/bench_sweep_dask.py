@@ -1,0 +1,118 @@
+"""Benchmark: a chart on a Dask LocalCluster against the same chart in this process, with the
+sweep's task sizes (several chunks per task, from the measured per-task overhead) and with one
+chunk per task (as before), in the same run; and the executors' per-task overhead itself.
+
+The chart: ``slider_crank_chart`` over ``N x N`` designs at 360 angles (compiled kernels). The
+cluster: ``--workers`` worker processes of one thread each, started once and warmed up (their
+kernels loaded) before timing. Each configuration is timed ``--runs`` times (wall clock); the
+ratios to this process are printed, and the charts are checked identical.
+
+The per-task overhead: trivial tasks through ``Client.get_executor().map`` and through a spawned
+``ProcessPoolExecutor`` (the numbers :data:`mechsynth.synthesis.charts.TASK_OVERHEAD` holds).
+
+Run: ``python benchmarks/bench_sweep_dask.py [--n 300 1000] [--workers 2] [--runs 3]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import time
+
+import numpy as np
+
+
+def _nothing(x):
+    return x
+
+
+def per_task_seconds(executor, n=400):
+    list(executor.map(_nothing, range(20)))
+    t = time.perf_counter()
+    list(executor.map(_nothing, range(n)))
+    return (time.perf_counter() - t) / n
+
+
+def _identical(a, b):
+    assert np.array_equal(a.feasible, b.feasible)
+    for k in a.values:
+        x, y = a.values[k].filled(np.nan), b.values[k].filled(np.nan)
+        assert np.array_equal(x, y, equal_nan=True)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--n", type=int, nargs="+", default=[300, 1000])
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--runs", type=int, default=3)
+    args = ap.parse_args(argv)
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    from dask.distributed import Client, LocalCluster
+
+    from mechsynth.synthesis import charts
+
+    with ProcessPoolExecutor(2, mp_context=multiprocessing.get_context("spawn")) as pool:
+        pool_task = per_task_seconds(pool, 2000)
+    with (
+        LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True,
+                     dashboard_address=None) as cluster,  # fmt: skip
+        Client(cluster) as client,
+    ):
+        ex = client.get_executor()
+        dask_task = statistics.median(per_task_seconds(ex) for _ in range(3))
+        print(f"per-task overhead: Dask LocalCluster {dask_task * 1e3:.1f} ms, process pool "
+              f"{pool_task * 1e3:.2f} ms (load average {os.getloadavg()[0]:.1f}: a shared "
+              "machine)")  # fmt: skip
+
+        def chart(n, executor):
+            lam, eps = np.linspace(1.5, 8.0, n), np.linspace(0.0, 2.0, n)
+            return charts.slider_crank_chart(rod_crank=lam, offset_crank=eps, progress=False,
+                                             executor=executor)  # fmt: skip
+
+        one_per_task = charts._chunks_per_task
+
+        def timed(n, executor, per_task=None):
+            if per_task is not None:
+                charts._chunks_per_task = lambda *a: per_task
+            try:
+                t = time.perf_counter()
+                out = chart(n, executor)
+                return time.perf_counter() - t, out
+            finally:
+                charts._chunks_per_task = one_per_task
+
+        chart(20, ex)  # warm the workers: kernels loaded
+        chart(20, "local")
+        for n in args.n:
+            timed(n, ex)  # the workers' memory for this size, untimed
+            rows = {"this process": [], "Dask, the sweep's tasks": [], "Dask, a chunk per task": []}
+            for _ in range(args.runs):
+                t_local, local = timed(n, "local")
+                t_dask, remote = timed(n, ex)
+                t_one, single = timed(n, ex, per_task=1)
+                _identical(remote, local)
+                _identical(single, local)
+                rows["this process"].append(t_local)
+                rows["Dask, the sweep's tasks"].append(t_dask)
+                rows["Dask, a chunk per task"].append(t_one)
+            chunk = charts._default_chunk(
+                charts._SweepSpec(None, {}, (1,), 1, {}, None, None, {}, np.zeros(360), None,
+                                  True), 8)  # fmt: skip
+            n_chunks = -(-n * n // chunk)
+            spec_like = charts._SweepSpec(None, {}, (1,), chunk, {}, None, None, {},
+                                          np.zeros(360), None, True)  # fmt: skip
+            per = charts._chunks_per_task(ex, spec_like, 8, n_chunks)
+            print(f"\n{n * n:,d} slider-crank designs x 360 angles ({n_chunks} chunks of "
+                  f"{chunk}; the sweep's tasks: {per} chunks each), wall seconds, "
+                  f"{args.runs} runs:")  # fmt: skip
+            base = rows["this process"]
+            for label, ts in rows.items():
+                print(f"  {label:28s} " + " ".join(f"{t:6.2f}" for t in ts) + "   / this process "
+                      + " ".join(f"{t / b:5.2f}" for t, b in zip(ts, base)))  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()
