@@ -169,6 +169,11 @@ def test_study_rows_and_errata(tmp_path):
     for name in names + ("extreme_velocity_chart.png", "extreme_velocity_chart.csv"):
         assert (tmp_path / name).stat().st_size > 500
     assert all(o["derived_vs_numeric"] < 1e-12 for o in result.data["offset_check"])
+    # the paper's chart as an alignment chart too, its reading error measured against the model
+    for extreme in ("max", "min"):
+        assert (tmp_path / f"nomogram_extreme_velocity_{extreme}.pdf").stat().st_size > 5000
+        assert result.data["nomograms"][extreme]["max_error"] < 0.01
+    assert "Nomogram of the maximum velocity analog" in result.summary
 
 
 def test_study_cli_json(capsys):

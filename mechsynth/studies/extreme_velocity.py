@@ -365,7 +365,7 @@ def run(out=None) -> StudyResult:
     """Run the study; write ``table1.csv``, ``offset_check.csv``, ``velocity_analogs.png`` and an
     animation of the b/a = 2 design into ``out`` when given."""
     names = ["Table 1", "offset designs", "reference chart"]
-    names += ["figures and animation"] if out is not None else []
+    names += ["figures and animation", "nomograms"] if out is not None else []
     with Stages("extreme-velocity", names) as stages:
         return _run(out, stages)
 
@@ -458,6 +458,21 @@ def _run(out, stages) -> StudyResult:
         files = [out / "table1.csv", out / "offset_check.csv", out / "velocity_analogs.png"]
         files += [out / "extreme_velocity_chart.png", out / "extreme_velocity_chart.csv"]
         files.append(anim.save(out / "slider_crank_b_a_2.gif"))
+        # the chart the paper says designers need, as an alignment chart: one sheet per extreme
+        stages.next("nomograms")
+        from ..nomograms import library
+
+        nomograms = {}
+        for extreme in ("max", "min"):
+            nm = library.build("extreme-velocity", extreme=extreme)
+            files.append(nm.save(out / f"nomogram_extreme_velocity_{extreme}.pdf"))
+            acc = nm.accuracy
+            nomograms[extreme] = {"max_error": acc.max_error, "max_error_mm": acc.max_mm}
+            lines.append(
+                f"Nomogram of the {extreme}imum velocity analog (alignment chart, A4 at 1:1): "
+                f"reads the model to {acc.max_error:.2g} per crank length "
+                f"({acc.max_mm:.2g} mm on paper) at worst"
+            )
 
     data = {
         "source": "Dzhavadyan, extreme values of the slider velocity of a slider-crank, Table 1",
@@ -466,6 +481,8 @@ def _run(out, stages) -> StudyResult:
         "lambda_s_errata_rows": [r["lambda"] for r in bad],
         "reference_chart": _chart_summary(chart),
     }
+    if out is not None:
+        data["nomograms"] = nomograms
     result = StudyResult("extreme-velocity", "\n".join(lines), data, files, errata)
     return COVERAGE.attach(result, out)
 
