@@ -4,6 +4,7 @@ several chunks -- and every chart unchanged (identical to small chunks, equal to
 1e-12)."""
 
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -163,3 +164,41 @@ def test_a_linkage_chart_on_its_kernel_with_default_chunks_equals_the_model(monk
     _identical(fast, charts.sweep(six, grid, measures, chunk=11, **kw))
     _close(fast, charts.sweep(six, grid, measures, kernels=False, **kw))
     assert 0 < fast.feasible.sum() < fast.size
+
+
+def test_a_linkage_sweep_takes_its_kernel_from_the_measured_thresholds(monkeypatch):
+    """Below LINKAGE_KERNEL_CACHED_MIN evaluations: the model; from it, the kernel when this
+    machine has compiled it; from LINKAGE_KERNEL_MIN, the kernel (compiled if need be)."""
+    from mechsynth.kinematics import linkage_kernels as lkk
+
+    six = ms.six_link()
+
+    def spec(designs):
+        return charts._SweepSpec(six, {}, (designs,), 1, {}, None, None, {}, ms.cycle(100),
+                                 None, True)  # fmt: skip
+
+    monkeypatch.setattr(charts, "LINKAGE_KERNEL_CACHED_MIN", 1e4)
+    monkeypatch.setattr(charts, "LINKAGE_KERNEL_MIN", 1e6)
+    built = []
+    monkeypatch.setattr(lkk, "linkage_kernel", lambda lk: built.append(lk) or "kernel")
+    for compiled in (False, True):
+        monkeypatch.setattr(lkk, "is_compiled", lambda lk, c=compiled: c)
+        assert charts._linkage_kernel(spec(99)) is None  # 9,900 evaluations
+        assert charts._linkage_kernel(spec(100)) == ("kernel" if compiled else None)
+        assert charts._linkage_kernel(spec(10_000)) == "kernel"
+    assert charts._linkage_kernel(replace(spec(10_000), kernels=False)) is None
+
+
+@kernels
+def test_is_compiled_knows_the_kernels_of_this_process_and_of_the_disk_cache(tmp_path,
+                                                                            monkeypatch):
+    from mechsynth.kinematics import linkage_kernels as lkk
+
+    six = ms.six_link()
+    lkk.linkage_kernel(six)
+    assert lkk.is_compiled(six)
+    monkeypatch.setattr(lkk, "_KERNELS", {})
+    assert lkk.is_compiled(six)  # recorded on disk
+    monkeypatch.setenv("MECHSYNTH_CACHE_DIR", str(tmp_path))
+    assert not lkk.is_compiled(six)  # another cache: not compiled there
+    assert not lkk.is_compiled(six.rename(DB="rocker"))

@@ -53,7 +53,7 @@ from .mechanism import speed_pair
 from .ops import cos_sin
 from .tracks import Jet, PointJet
 
-__all__ = ["LinkageKernel", "linkage_kernel", "cache_dir", "linkage_batch"]
+__all__ = ["LinkageKernel", "linkage_kernel", "is_compiled", "cache_dir", "linkage_batch"]
 
 # casadi operation -> Python expression over the inputs {0}, {1} (scalar_ops as ``so``)
 _FORMS = {
@@ -407,12 +407,10 @@ _KERNELS: dict = {}
 
 @functools.cache
 def _model_digest() -> str:
-    """A digest of the kinematics' source files (the model a kernel is traced from), the
-    generator's and numba's version: a kernel found by its structure alone must come from this
-    very model."""
-    import numba
-
-    h = hashlib.sha256(numba.__version__.encode())
+    """A digest of the kinematics' source files (the model a kernel is traced from, and the
+    generator): a kernel found by its structure alone must come from this very model. (Another
+    numba gives another generated module through its stamp, and numba's cache its own entry.)"""
+    h = hashlib.sha256()
     for path in sorted(Path(__file__).parent.glob("*.py")):
         h.update(path.name.encode())
         h.update(path.read_bytes())
@@ -480,6 +478,16 @@ def _vectorize_wide_loops():
 
     llvm.set_option("", "-runtime-memory-check-threshold=100000")
     llvm.set_option("", "-vectorize-memory-check-threshold=100000")
+
+
+def is_compiled(linkage) -> bool:
+    """Whether ``linkage``'s structure has a kernel already: in this process, or recorded in
+    the disk cache by an earlier one (then it loads without compiling). No numba import."""
+    key = _structure(linkage)
+    if key in _KERNELS:
+        return _KERNELS[key] is not None
+    index = _index_path(key)
+    return index is not None and index.is_file()
 
 
 def linkage_kernel(linkage) -> LinkageKernel | None:

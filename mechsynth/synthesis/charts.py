@@ -650,10 +650,21 @@ def _sweep_block(spec: _SweepSpec, c: int) -> _BlockResult | None:
 
 
 #: design-angle evaluations from which a Linkage's sweep runs on a kernel compiled for its
-#: structure (:mod:`~mechsynth.kinematics.linkage_kernels`): its first compilation costs about
-#: 4 s, later processes load it from the disk cache in about 0.7 s; the numpy model takes about
-#: 3.5 s for 1e7 evaluations in a sweep, the kernel about 0.6 s (bench_linkage_compiled.py)
+#: structure (:mod:`~mechsynth.kinematics.linkage_kernels`) when this machine has not compiled
+#: it yet. Measured on 2 cores (bench_linkage_paths.py --compile, bench_linkage_compiled.py,
+#: a busy machine): the first compilation of a six-bar's kernel takes 9-14 s, once per machine;
+#: in a chart the numpy model evaluates 1.6-4.5e6 design-angle points per second, the kernel
+#: 0.7-1.6e7, so 1e7 evaluations take 2.2-6 s on the model and 0.6-1.4 s on the kernel: the
+#: compilation pays back within the first two or three charts of this size, and every later one
+#: starts from the cached kernel.
 LINKAGE_KERNEL_MIN = 1e7
+
+#: design-angle evaluations from which a Linkage's sweep runs on its kernel when the kernel is
+#: compiled already (in this process, or recorded in the disk cache): a load then costs 0.8-1.2
+#: s in a new process (numba's import and start; the kernel itself loads in about 0.01 s, found
+#: by its structure without tracing), about 1.6-5e-7 s saved per evaluation against the model:
+#: even from 2.5-7e6 evaluations
+LINKAGE_KERNEL_CACHED_MIN = 4e6
 
 
 def _linkage_kernel(spec):
@@ -662,11 +673,14 @@ def _linkage_kernel(spec):
 
     if not (spec.kernels and isinstance(spec.mechanism, Linkage)):
         return None
-    if int(np.prod(spec.shape)) * spec.phi.size < LINKAGE_KERNEL_MIN:
+    evaluations = int(np.prod(spec.shape)) * spec.phi.size
+    if evaluations < LINKAGE_KERNEL_CACHED_MIN:
         return None
-    from ..kinematics.linkage_kernels import linkage_kernel
+    from ..kinematics import linkage_kernels
 
-    return linkage_kernel(spec.mechanism)
+    if evaluations < LINKAGE_KERNEL_MIN and not linkage_kernels.is_compiled(spec.mechanism):
+        return None
+    return linkage_kernels.linkage_kernel(spec.mechanism)
 
 
 def _dumps(spec) -> bytes:
@@ -912,7 +926,8 @@ def sweep(
         loops); 1 evaluates them one after the other.
     kernels : evaluate the motion on the compiled batch kernels when the mechanism has them
         (slider-crank, four-bar; a Linkage's kernel compiled for its structure when the sweep
-        has at least :data:`LINKAGE_KERNEL_MIN` design-angle evaluations; numba installed),
+        has at least :data:`LINKAGE_KERNEL_MIN` design-angle evaluations, or
+        :data:`LINKAGE_KERNEL_CACHED_MIN` when this machine has compiled it; numba installed),
         streaming the chunks through one reused workspace; the model's ``motion`` evaluates the
         rest, the designs a linkage's kernel cannot vouch for, and every measure that needs
         more than the kernels give (a point's track). False: always the model (the reference
@@ -921,8 +936,9 @@ def sweep(
         ``ProcessPoolExecutor()``, or ``dask.distributed.Client(address).get_executor()`` for
         a cluster); each task evaluates a run of consecutive chunks where it runs -- enough
         work to outweigh the executor's measured per-task cost (:data:`TASK_OVERHEAD`), at
-        least 8 tasks -- and returns only their measures, feasibility and parameters. The sweep's functions travel by pickle (by
-        cloudpickle when plain pickle cannot take them, e.g. local functions). ``"processes"``:
+        least 8 tasks -- and returns only their measures, feasibility and parameters. The
+        sweep's functions travel by pickle (by cloudpickle when plain pickle cannot take them,
+        e.g. local functions). ``"processes"``:
         a pool of fresh processes, one per core, for this sweep (a script must guard its main
         code with ``if __name__ == "__main__":``). ``"auto"``: that pool when the motion runs
         on the numpy model (``kernels=False``, or a Linkage without a kernel) and the sweep has
