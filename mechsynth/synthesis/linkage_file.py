@@ -574,7 +574,7 @@ def chart_linkage(out, options):
         feasible=assembles,
         angles=angles,
         speed=speed,
-        progress=False,
+        progress=True,  # a bar on a terminal (the command line's --quiet turns it off)
         labels={k: f"{_axis_words(lk, k)}, {unit[k]}" for k in (xn, yn)},
     )
     files = []
