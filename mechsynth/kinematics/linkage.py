@@ -266,6 +266,8 @@ class Linkage(Drawable):
                     members[body].append(point)
         self._bodies, self._owner = bodies, owner
         self._members = {k: tuple(v) for k, v in members.items()}
+        # the (designs x angles) arrays a motion holds at its peak, for its memory guard
+        self._motion_arrays = 12 * (len(self.points) + len(bodies)) + 8
         self._frozen = True
         return self
 
@@ -1084,7 +1086,7 @@ class Linkage(Drawable):
                 phi = np.asarray(phi, dtype=float) if np.ndim(phi) else float(phi)
             except (TypeError, ValueError):
                 raise MechanismError(f"phi must be {self._input_words()}, got {phi!r}") from None
-            if not np.all(np.isfinite(phi)):
+            if not np.isfinite(phi).all():
                 raise MechanismError(f"phi must be finite {self._input_words()}")
             if not self.is_symbolic:  # refuse up front what would not fit in memory
                 guard_motion(
@@ -1092,7 +1094,7 @@ class Linkage(Drawable):
                     phi if isinstance(phi, np.ndarray) else np.asarray(phi),
                     omega,
                     eps,
-                    arrays=12 * (len(self.points) + len(self._bodies)) + 8,
+                    arrays=self._motion_arrays,
                 )
         return self._motion(self._solve(phi), phi, omega, eps)
 

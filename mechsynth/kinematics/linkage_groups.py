@@ -16,6 +16,7 @@ Groups are frozen values holding parameter *names*; the values live in the linka
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -27,6 +28,7 @@ from .blocks import (
     cam_contact,
     coupler_point,
     crank,
+    crank_pin,
     dyad_rpr_on,
     dyad_rrp,
     dyad_rrp_on,
@@ -254,10 +256,15 @@ class Group:
     kind = "group"
 
     def p(self, v, role):
-        return v[dict(self.params)[role]]
+        return v[self._roles[role]]
 
     def has(self, role) -> bool:
-        return role in dict(self.params)
+        return role in self._roles
+
+    @functools.cached_property
+    def _roles(self) -> dict:
+        """``params`` as a dict, made once per group (a motion asks for each parameter)."""
+        return dict(self.params)
 
     @property
     def label(self) -> str:
@@ -319,10 +326,17 @@ class CrankGroup(Group):
         v = st.v
         o = st.points[self.about]
         phase = self.p(v, "phase")
-        a = crank(st.phi, self.p(v, "length"), o.x, o.y, phase)
-        zero = 0.0 * a.x
+        if ops.is_zero(phase):  # the grid's cosines and sines, remembered (ops.cos_sin)
+            c, s = ops.cos_sin(st.phi)
+            a = crank_pin(c, s, self.p(v, "length"), o.x, o.y)
+            zero = 0.0 * a.x
+            angle = st.phi + zero
+        else:
+            a = crank(st.phi, self.p(v, "length"), o.x, o.y, phase)
+            zero = 0.0 * a.x
+            angle = st.phi + phase + zero
         st.points[self.key] = a
-        st.links[self.link] = Jet(st.phi + phase + zero, 1.0 + zero, zero)
+        st.links[self.link] = Jet(angle, 1.0 + zero, zero)
 
     def new_point(self):
         return self.key, self.link
