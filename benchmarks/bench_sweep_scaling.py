@@ -7,9 +7,10 @@ rod/crank x offset/crank, 360 crank angles, 600 rpm, four measures through
 ``slider_crank_batch`` (:func:`bench_sweep.hand_written`). Each size runs in a fresh process
 (warmed up on a small grid first) so that its peak resident memory is its own; the CPU time
 (``time.process_time``) of each of ``--repeat`` runs is printed with the ratio sweep / by hand,
-and the peak resident memory with its part per design (the chart's own outputs -- four measures,
-three parameters and the feasibility as whole-grid arrays, masked -- are about 100 bytes per
-design). The values of the two agree (checked at every size).
+and the peak resident memory over the warm start per design (it holds both charts' whole-grid
+arrays -- the sweep's measures, parameters and feasibility, the hand-written loop's grids and
+results -- and one chunk's kinematics each: flat memory is a figure per design that does not
+grow with the grid). The values of the two agree (checked at every size).
 
 Run: ``python benchmarks/bench_sweep_scaling.py [--n 100 300 1000 2000] [--repeat 3]``.
 """
