@@ -105,3 +105,33 @@ def test_files_and_figures(result):
     } <= names
     bad = {k: v for k, v in found.items() if v}
     assert not bad, bad
+
+
+def test_paper_arguments_and_coverage_reported(result):
+    res, found = result
+    f = res.data["findings"]
+    assert f["support_position"]["least_guide_force_rho_deg"] == 90.0
+    assert f["extra_rod"]["verdict"]["123.0"]["speed_rises"]
+    assert not f["extra_rod"]["verdict"]["57.0"]["speed_rises"]
+    assert f["gravity_assist"]["holds_up_to_the_blow"]
+    assert f["rocker_profile"]["max_rel_difference"] < 1e-4
+    assert "speed and stroke rise at rho 123 deg" in res.summary and "coverage of Paper 001" in res.summary
+    assert res.data["coverage"]["study"] == "impact"
+    names = {Path(p).name for p in res.files}
+    for name in (
+        "impact_extra_rod.png",
+        "impact_five_link_forces.png",
+        "impact_reduced.png",
+        "impact_rocker_profile.png",
+        "impact_five_link_forces.csv",
+        "impact_extra_rod.csv",
+        "impact_coverage.csv",
+    ):
+        assert name in names
+    for name in (
+        "impact_extra_rod.png",
+        "impact_five_link_forces.png",
+        "impact_reduced.png",
+        "impact_rocker_profile.png",
+    ):
+        assert found[name] == [], (name, found[name])

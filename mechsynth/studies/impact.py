@@ -37,8 +37,15 @@ from ..options import Option, takes_options
 from ..progress import Stages
 from ..report import StudyResult
 from ..units import deg, rpm, to_rpm
+from .coverage import Coverage, Item
 
-__all__ = ["run", "STAGES"]
+__all__ = ["run", "STAGES", "COVERAGE"]
+
+#: the extra rod's lengths (m) and the guide angles (deg) of the conclusions 3-4 charts
+EXTRA_RODS = (0.05, 0.055, 0.06, 0.065, 0.07, 0.075, 0.08, 0.085, 0.09)
+SUPPORT_RHOS = tuple(float(r) for r in range(50, 131, 5))
+#: the rocker's width for its profile (Fig. 13), m
+ROCKER_WIDTH = 0.010
 
 STAGES = (
     "six-link kinematics and the paper's formulas",
@@ -244,6 +251,8 @@ def _run(out, o, stages):
     forces = {k: force_findings(m, n=o["angles"]) for k, m in machines.items()}
     cyc = {k: cycle_forces(m, phi, w) for k, m in machines.items()}
 
+    fnd = _findings(machines, o)
+
     # 3. the blow at the nominal speed
     stages.next(STAGES[2])
     blows = {k: m.blow().as_dict() for k, m in machines.items()}
@@ -303,10 +312,12 @@ def _run(out, o, stages):
     if out is not None:
         stages.next(STAGES[-1])
         files = _write(out, o, phi, w, six, motions, six_forces, machines, cyc, ivp, su, synth)
+        files += _write_findings(out, o, phi, cyc, fnd)
 
     lines = _summary(
         o, six, findings, formulas, five, five_formulas, forces, blows, dynamics, synth
     )
+    lines.extend(_findings_lines(fnd))
     lines.append(f" run time {time.perf_counter() - t0:.1f} s")
     data = {
         "representative": {
@@ -325,8 +336,10 @@ def _run(out, o, stages):
         "blow": blows,
         "dynamics": dynamics,
         "synthesis": synth,
+        "findings": _findings_data(fnd),
     }
-    return StudyResult("impact", "\n".join(lines), data, files, list(ERRATA))
+    result = StudyResult("impact", "\n".join(lines), data, files, list(ERRATA))
+    return COVERAGE.attach(result, out)
 
 
 def _summary(o, six, findings, formulas, five, five_formulas, forces, blows, dynamics, synth):
@@ -415,9 +428,7 @@ def _summary(o, six, findings, formulas, five, five_formulas, forces, blows, dyn
         if su["time_to_95pct_s"] is not None
         else f"95 % of the steady speed not reached within {su['duration_s']:g} s"
     )
-    L.append(
-        f"   start-up from rest: {reached}, {su['blows']} blows in {su['duration_s']:g} s"
-    )
+    L.append(f"   start-up from rest: {reached}, {su['blows']} blows in {su['duration_s']:g} s")
     fw = d["flywheel"]
     L.append(
         f"   flywheel for delta = {fw['delta_target']:g}: {fw['flywheel_kgm2']:.4f} kg m^2 "
@@ -622,3 +633,655 @@ def _write(out, o, phi, w, six, motions, six_forces, machines, cyc, ivp, su, syn
             wr.writerow([float(a), float(ww), float(tq)])
     files.append(p)
     return files
+
+
+def _findings(machines, o):
+    """Paper 001's arguments on the study's machines (machines.impact.findings)."""
+    from ..machines.impact import findings as F
+
+    rhos = np.radians(o["rho_deg"])
+    return {
+        "extra_rod": F.extra_rod_effect(machines["six"], EXTRA_RODS, rhos, n=o["angles"] // 2),
+        "support": F.support_position_effect(
+            machines["six"], np.radians(SUPPORT_RHOS), n=o["angles"] // 2
+        ),
+        "profile": F.rocker_profile(machines["five"], ROCKER_WIDTH),
+        "reduced": F.reduced_terms(machines["five"], n=o["angles"]),
+        "gravity": F.gravity_assist(machines["five"]),
+        "pairs": F.pair_force_findings(machines["five"], n=o["angles"]),
+    }
+
+
+def _findings_data(f):
+    e, s, p = f["extra_rod"], f["support"], f["profile"]
+    return {
+        "extra_rod": {
+            "lengths_m": e["lengths"].tolist(),
+            "rows": {
+                str(r): {k: v.tolist() for k, v in row.items()} for r, row in e["rows"].items()
+            },
+            "verdict": {str(r): v for r, v in e["verdict"].items()},
+            "unassembled": {str(r): v for r, v in e["unassembled"].items()},
+        },
+        "support_position": {
+            k: (v.tolist() if isinstance(v, np.ndarray) else v) for k, v in s.items()
+        },
+        "rocker_profile": {
+            "width_m": p["width"],
+            "base_radius_m": p["base_radius"],
+            "max_rel_difference": p["max_rel_difference"],
+            **{k: {"radius_range_m": p[k]["radius_range"]} for k in ("outer", "axis", "inner")},
+        },
+        "reduced_peaks": {
+            "inertia_kgm2": {k: float(np.max(v)) for k, v in f["reduced"]["inertia"].items()},
+            "gravity_Nm": {k: float(np.max(np.abs(v))) for k, v in f["reduced"]["gravity"].items()},
+        },
+        "gravity_assist": f["gravity"],
+        "pair_forces": f["pairs"],
+    }
+
+
+def _findings_lines(f):
+    e, s, p, g, q = (f[k] for k in ("extra_rod", "support", "profile", "gravity", "pairs"))
+    L = [" paper 001's arguments (six-link: extra rod and support; five-link: profile, dynamics):"]
+    word = {1: "rises", -1: "falls", 0: "flat/not monotone"}
+    for r, v in e["verdict"].items():
+        t = v["trends"]
+        L.append(
+            f"   K-N {e['lengths'][0] * 1e3:.0f}-{e['lengths'][-1] * 1e3:.0f} mm at rho {r:g} deg:"
+            f" guide force {word[t['peak_guide_force']]} "
+            f"({v['guide_force_change_rel']:.0%}), speed {word[t['peak_velocity']]} "
+            f"({v['speed_change_rel']:.1%}), stroke {word[t['stroke']]} "
+            f"({v['stroke_change_rel']:.1%})"
+        )
+    v = e["verdict"].values()
+    falls = all(x["guide_force_falls"] for x in v)
+    rises = [r for r, x in e["verdict"].items() if x["speed_rises"] and x["stroke_rises"]]
+    L.append(
+        "   conclusion 4 (a longer rod: less guide force, more speed and stroke): guide force "
+        f"{'falls at every rho' if falls else 'does not always fall'}; speed and stroke rise at "
+        f"rho {', '.join(f'{r:g}' for r in rises) or 'none'} deg of "
+        f"{', '.join(f'{r:g}' for r in e['verdict'])}"
+    )
+    L.append(
+        f"   conclusion 3 (support position, rho {SUPPORT_RHOS[0]:g}-{SUPPORT_RHOS[-1]:g} deg): "
+        f"least guide force {s['least_guide_force_N']:.0f} N at rho "
+        f"{s['least_guide_force_rho_deg']:g} deg; stroke {s['stroke_range'][0] * 1e3:.1f}-"
+        f"{s['stroke_range'][1] * 1e3:.1f} mm, peak speed {s['speed_range'][0]:.2f}-"
+        f"{s['speed_range'][1]:.2f} m/s"
+    )
+    L.append(
+        f"   rocker profile {p['width'] * 1e3:g} mm wide (Fig. 13): outer, axis and inner "
+        f"surfaces are involutes of the {p['base_radius'] * 1e3:g} mm base circle (measured radii "
+        f"of curvature equal the involute's to {p['max_rel_difference']:.1e})"
+    )
+    L.append(
+        f"   gravity (Figs. 17-18, tool down): the links' gravity moments drive the crank over the "
+        f"{g['assist_arc_deg']:.1f} deg before the blow (from {g['assist_from_deg']:.1f} to "
+        f"{g['blow_deg']:.1f} deg), {g['work_over_arc_J']:.2f} J (the paper's 60 deg is in an "
+        "origin of crank angle the text does not give)"
+    )
+    a = q["along_links"]
+    L.append(
+        f"   joint loads along the links (conclusion 9): A {a['A']['cos_at_peak']:.5f}, B "
+        f"{a['B']['cos_at_peak']:.5f} along the rod (cos at the peak); D "
+        f"{a['D']['mean_cos_weighted']:.2f} along the rocker (force-weighted mean cos)"
+    )
+    tdc = ", ".join(f"{t:+.2f}" for t in q["torque_at_dead_centres_Nm"])
+    tb = q["torque_before_blow_Nm"]
+    L.append(
+        f"   driving moment (Fig. 26): {tdc} N m at the rocker's extremes (of "
+        f"{q['torque_range_Nm'][0]:.1f}..{q['torque_range_Nm'][1]:.1f} N m), "
+        f"{tb[0]:.1f}..{tb[1]:.1f} N m over the 20 deg before the blow (the machine's forces "
+        f"drive the crank there over {q['assist_before_blow_fraction']:.0%} of it); "
+        "rocker-striker force "
+        f"{q['rocker_striker_ratio']:.2f} of the four-bar's"
+    )
+    return L
+
+
+def _write_findings(out, o, phi, cyc, f):
+    """Figures and tables of the findings: extra rod and support (conclusions 3-4), the
+    five-link's forces (Figs. 25-26), reduced inertias and gravity moments (Figs. 17-18), the
+    rocker's profile (Fig. 13)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ..plotting import LINESTYLES, PALETTE, crank_axis, style
+    from ..plotting import save as save_figure
+
+    files = []
+    d = np.degrees(phi)
+    e, s = f["extra_rod"], f["support"]
+    names = {"OA": "crank (with the flywheel)", "AB": "rod", "DB": "rocker", "N": "striker"}
+    with style():
+        fig, axes = plt.subplots(2, 2, figsize=(11, 7.5))
+        mm = e["lengths"] * 1e3
+        for k, (r, row) in enumerate(e["rows"].items()):
+            kw = dict(color=PALETTE[4 + k % 3], ls=LINESTYLES[k % len(LINESTYLES)], marker="o")
+            axes[0, 0].plot(mm, row["stroke"] * 1e3, ms=3, label=f"rho {r:g} deg", **kw)
+            axes[0, 1].plot(mm, row["peak_guide_force"], ms=3, label=f"rho {r:g} deg", **kw)
+        axes[0, 0].set_xlabel("extra rod K-N, mm")
+        axes[0, 0].set_ylabel("striker stroke, mm")
+        axes[0, 1].set_xlabel("extra rod K-N, mm")
+        axes[0, 1].set_ylabel("guide's peak side force, N")
+        axes[0, 1].set_yscale("log")
+        axes[0, 0].set_title("conclusion 4: the extra rod's length", fontsize=9)
+        axes[1, 0].plot(s["rho_deg"], s["stroke"] * 1e3, "o-", color=PALETTE[4], ms=3)
+        ax2 = axes[1, 0].twinx()
+        ax2.plot(s["rho_deg"], s["peak_velocity"], "s--", color=PALETTE[6], ms=3)
+        ax2.set_ylabel("peak striker speed, m/s (dashed)")
+        axes[1, 0].set_ylabel("striker stroke, mm (solid)")
+        axes[1, 0].set_xlabel("guide angle rho (support position), deg")
+        axes[1, 0].set_title("conclusion 3: the support position", fontsize=9)
+        axes[1, 1].plot(s["rho_deg"], s["peak_guide_force"], "o-", color=PALETTE[5], ms=3)
+        axes[1, 1].set_yscale("log")
+        axes[1, 1].set_xlabel("guide angle rho (support position), deg")
+        axes[1, 1].set_ylabel("guide's peak side force, N")
+        for ax in axes[0]:
+            ax.legend(fontsize=8)
+        fig.suptitle(
+            f"six-link at {o['speed_rpm']:g} rpm: extra rod and support position", fontsize=10
+        )
+        files.append(save_figure(fig, out / "impact_extra_rod.png", dpi=110))
+
+        fig, axes = plt.subplots(2, 1, figsize=(9, 7.5), sharex=True)
+        fv = cyc["five"]
+        for k, j in enumerate(("O", "A", "B", "D")):
+            axes[0].plot(
+                d,
+                fv.result.magnitude(j) / 1e3,
+                color=PALETTE[(k + 1) % 8],
+                ls=LINESTYLES[k % len(LINESTYLES)],
+                label=f"joint {j}",
+            )
+        axes[0].set_ylabel("joint force, kN")
+        axes[0].set_title(
+            f"five-link (involute) at {o['speed_rpm']:g} rpm: joint forces (paper's Fig. 25)",
+            fontsize=9,
+        )
+        axes[1].plot(
+            d,
+            np.asarray(fv.result.torque) * np.ones(d.shape),
+            color="k",
+            lw=1,
+            label="driving moment at the crank, N m",
+        )
+        axes[1].plot(
+            d,
+            fv.result.magnitude("N_contact") / 100.0,
+            color=PALETTE[6],
+            ls="--",
+            label="rocker-striker force / 100, N",
+        )
+        axes[1].set_ylabel("N m;  N / 100")
+        axes[1].set_title("driving moment and rocker-striker force (paper's Fig. 26)", fontsize=9)
+        for ax in axes:
+            ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
+        crank_axis(axes[1])
+        files.append(save_figure(fig, out / "impact_five_link_forces.png", dpi=110))
+
+        red = f["reduced"]
+        rd = np.degrees(red["phi"])
+        fig, axes = plt.subplots(2, 1, figsize=(9, 7.5), sharex=True)
+        for k, (b, j) in enumerate(red["inertia"].items()):
+            kw = dict(color=PALETTE[(k + 1) % 8], ls=LINESTYLES[k % len(LINESTYLES)])
+            axes[0].plot(rd, j * 1e3, label=names.get(b, b), **kw)
+            axes[1].plot(rd, red["gravity"][b], label=names.get(b, b), **kw)
+        axes[1].plot(rd, red["gravity_total"], color="k", lw=1, label="sum")
+        g = f["gravity"]
+        axes[1].axvspan(g["blow_deg"] - g["assist_arc_deg"], g["blow_deg"], color="0.9")
+        axes[1].axvline(g["blow_deg"], color="0.4", ls=":", lw=1)
+        axes[0].set_yscale("log")
+        axes[0].set_ylabel("reduced inertia, 10^-3 kg m^2")
+        axes[1].set_ylabel("reduced gravity moment, N m")
+        axes[0].set_title("five-link: per-link reduced inertias (paper's Fig. 18)", fontsize=9)
+        axes[1].set_title(
+            "reduced gravity moments, tool down (Fig. 17); shaded: gravity drives the crank "
+            "up to the blow (dotted)",
+            fontsize=9,
+        )
+        for ax in axes:
+            ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
+        crank_axis(axes[1])
+        files.append(save_figure(fig, out / "impact_reduced.png", dpi=110))
+
+        p = f["profile"]
+        fig, ax = plt.subplots(figsize=(9, 5))
+        for k, name in enumerate(("outer", "axis", "inner")):
+            x, y = p["curves"][name]
+            ax.plot(
+                x * 1e3,
+                y * 1e3,
+                color=PALETTE[4 + k],
+                ls=LINESTYLES[k],
+                label=f"{name} (radius {p[name]['radius_range'][0] * 1e3:.1f}-"
+                f"{p[name]['radius_range'][1] * 1e3:.1f} mm)",
+            )
+        t = np.linspace(0, 2 * np.pi, 181)
+        rb = p["base_radius"]
+        ax.plot(
+            rb * 1e3 * np.cos(t), rb * 1e3 * np.sin(t), color="0.6", lw=0.8, label="base circle"
+        )
+        ax.set_aspect("equal")
+        ax.set_xlabel("along the rocker D-B, mm")
+        ax.set_ylabel("across the rocker, mm")
+        ax.set_title(
+            f"rocker profile {p['width'] * 1e3:g} mm wide (paper's Fig. 13): involutes, radii "
+            f"equal to {p['max_rel_difference']:.0e}",
+            fontsize=9,
+        )
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
+        files.append(save_figure(fig, out / "impact_rocker_profile.png", dpi=110))
+
+    path = out / "impact_five_link_forces.csv"
+    fv = cyc["five"]
+    joints = ("O", "A", "B", "D", "N_contact", "N_guide")
+    red = f["reduced"]
+    same = red["phi"].size == phi.size
+    with atomic(path, "w", newline="") as fh:
+        wr = csv.writer(fh)
+        wr.writerow(
+            ["crank angle [deg]"]
+            + [f"|{j}| [N]" for j in joints]
+            + ["driving moment [N m]"]
+            + ([f"J {b} [kg m^2]" for b in red["inertia"]] if same else [])
+            + ([f"M_G {b} [N m]" for b in red["gravity"]] if same else [])
+        )
+        torque = np.asarray(fv.result.torque) * np.ones(d.shape)
+        mags = {j: fv.result.magnitude(j) for j in joints}
+        for i, a in enumerate(d):
+            row = [a] + [float(mags[j][i]) for j in joints] + [float(torque[i])]
+            if same:
+                row += [float(v[i]) for v in red["inertia"].values()]
+                row += [float(v[i]) for v in red["gravity"].values()]
+            wr.writerow(row)
+    files.append(path)
+    path = out / "impact_extra_rod.csv"
+    with atomic(path, "w", newline="") as fh:
+        wr = csv.writer(fh)
+        wr.writerow(
+            [
+                "study",
+                "rho [deg]",
+                "K-N [m]",
+                "stroke [m]",
+                "peak V_N [m/s]",
+                "impact speed [m/s]",
+                "peak guide force [N]",
+            ]
+        )
+        for r, row in e["rows"].items():
+            for i, kn in enumerate(e["lengths"]):
+                wr.writerow(
+                    [
+                        "extra rod",
+                        r,
+                        kn,
+                        row["stroke"][i],
+                        row["peak_velocity"][i],
+                        row["impact_velocity"][i],
+                        row["peak_guide_force"][i],
+                    ]
+                )
+        kn = float(cyc["six"].machine.linkage.parameters["KN"])
+        for i, r in enumerate(s["rho_deg"]):
+            wr.writerow(
+                [
+                    "support position",
+                    r,
+                    kn,
+                    s["stroke"][i],
+                    s["peak_velocity"][i],
+                    s["impact_velocity"][i],
+                    s["peak_guide_force"][i],
+                ]
+            )
+    files.append(path)
+    return files
+
+
+def _t(name):
+    file, _, test = name.partition("::")
+    return f"tests/test_impact_{file}.py::{test}"
+
+
+_MODEL = _t("model::test_printed_six_link_formulas")
+_FIVE = _t("model::test_printed_five_link_formulas")
+_FIND = "findings::"
+
+COVERAGE = Coverage(
+    "Paper 001 (Takyrbashev): percussive machines of variable structure",
+    "impact",
+    (
+        Item(
+            "dimensions",
+            "data",
+            "the machine's dimensions, masses and motor",
+            "not reproducible",
+            "machines.impact.design.representative_machine",
+            note="the paper prints none: a representative 15-20 J breaker (design.SOURCES)",
+        ),
+        Item(
+            "Fig. 1",
+            "figure",
+            "the six-link scheme: extra rod K-N, striker N on a guide at rho",
+            "reproduced",
+            "machines.impact.model.six_link",
+            (_t("model::test_six_link_stroke_and_special_position"),),
+            "the figure is missing from the text; built from its description, animated "
+            "(impact_six_link.gif)",
+        ),
+        Item(
+            "Fig. 2",
+            "finding",
+            "at the special position rho = 90 deg gives V_N = V_K",
+            "reproduced",
+            "machines.impact.paper001.rho_finding",
+            (_t("model::test_rho_findings_at_the_special_position"),),
+            "exact for any rod (K moves along the guide there)",
+        ),
+        Item(
+            "Figs. 3-4",
+            "finding",
+            "rho > 90 deg gives V_N < V_K, rho < 90 deg V_N > V_K",
+            "reproduced",
+            "machines.impact.paper001.rho_finding",
+            (_t("model::test_rho_findings_at_the_special_position"),),
+            "for the striker behind K with the rod leaning by more than |90 deg - rho|/2 "
+            "(the representative machine: 1.024 at 57 deg, 0.653 at 123 deg); reversed ahead",
+        ),
+        Item(
+            "Figs. 3-4, dashed",
+            "finding",
+            "the extra rod's length changes the striker's speed",
+            "reproduced",
+            "machines.impact.findings.extra_rod_effect",
+            (_t(_FIND + "test_extra_rod_length_conclusion_4"),),
+            "K-N 50-90 mm: peak speed -15 % at rho 57 deg, +11 % at 123 deg, none at 90 deg "
+            "(impact_extra_rod.png)",
+        ),
+        Item(
+            "eq. (1)",
+            "equation",
+            "the extra rod's angle eta",
+            "erratum",
+            "machines.impact.paper001.check_six_link",
+            (_MODEL,),
+            "sin(phi3 + rho) must be sin(phi3 - rho); as printed the arcsin leaves [-1, 1]",
+        ),
+        Item(
+            "eqs. (2)-(3), (5)-(7)",
+            "equation",
+            "velocity and acceleration plans: V_KN, U41, a_KN^t, a_N",
+            "reproduced",
+            "machines.impact.paper001.check_six_link",
+            (_MODEL,),
+            "exact as printed for the striker behind K; ahead of K signs change",
+        ),
+        Item(
+            "eq. (4)",
+            "equation",
+            "the striker's speed V_N",
+            "erratum",
+            "machines.impact.paper001.check_six_link",
+            (_MODEL,),
+            "the opposite sign of the exact value for the assembly where (3), (5)-(7) hold",
+        ),
+        Item(
+            "Figs. 10, 12",
+            "figure",
+            "V_N, a_N against V_K, a_K^t for rho = 57, 90, 123 deg",
+            "not reproducible",
+            "impact_kinematics.png",
+            note="the figures are missing from the text; redrawn from the tested formulas",
+        ),
+        Item(
+            "Figs. 5, 7",
+            "figure",
+            "circular-link (eccentric) embodiments of the six- and five-link",
+            "not reproducible",
+            "docs/impact.md",
+            note="not built: an eccentric is a revolute pair enlarged to hold the next link, "
+            "so its kinematics is the lever scheme's with the centre distances as lengths; "
+            "the paper gives no radii to check the nesting clearances",
+        ),
+        Item(
+            "Fig. 6",
+            "figure",
+            "the five-link: the rocker's curved extension pushes the striker",
+            "reproduced",
+            "machines.impact.model.five_link",
+            (_t("model::test_five_link_involute_moves_striker_by_base_radius"),),
+            "the figure is missing from the text; an involute of a circle about D, guide tangent",
+        ),
+        Item(
+            "Fig. 13",
+            "figure",
+            "the rocker's profile for a given width: outer surface, axis, inner surface",
+            "reproduced",
+            "machines.impact.findings.rocker_profile",
+            (_t(_FIND + "test_rocker_profile_radii_are_the_involute"),),
+            "built from the motion for a 10 mm width (impact_rocker_profile.png)",
+        ),
+        Item(
+            "finding: profile radii",
+            "finding",
+            "the constructed profile's radii of curvature equal the involute's",
+            "reproduced",
+            "machines.impact.findings.rocker_profile",
+            (_t(_FIND + "test_rocker_profile_radii_are_the_involute"),),
+            "to 2e-5 (finite differences); the surfaces are involutes of the same base circle",
+        ),
+        Item(
+            "conclusion 5",
+            "finding",
+            "an involute profile passes the force only along the striker's motion",
+            "reproduced",
+            "machines.impact.forces.force_findings",
+            (_t("forces::test_involute_puts_no_side_load_on_the_guide_the_arc_does"),),
+            "1e-12 N side load without gravity; 211 N with the circular arc",
+        ),
+        Item(
+            "eq. (8)",
+            "equation",
+            "L_DP from the contact geometry",
+            "erratum",
+            "machines.impact.paper001.check_five_link",
+            (_FIVE,),
+            "the left side is L_DP (printed L_EB)",
+        ),
+        Item(
+            "eq. (9)",
+            "equation",
+            "the striker's speed from the contact point's",
+            "erratum",
+            "machines.impact.paper001.check_five_link",
+            (_FIVE,),
+            "V_P sin(phi3R) = omega3 R_EB, not V_P cos(phi3R)",
+        ),
+        Item(
+            "eq. (10)",
+            "equation",
+            "the striker's acceleration",
+            "erratum",
+            "machines.impact.paper001.check_five_link",
+            (_FIVE,),
+            "not the projection of the contact point's: a_N = eps3 R_EB",
+        ),
+        Item(
+            "eqs. (11)-(12)",
+            "equation",
+            "the striker's reduced gravity moment and the reduced inertia",
+            "reproduced",
+            "machines.impact.findings.reduced_terms",
+            (
+                _t("drive::test_paper_eq12_and_eq11_on_the_five_link"),
+                _t(_FIND + "test_reduced_terms_sum_to_the_machine_model_and_eq_11"),
+            ),
+        ),
+        Item(
+            "Figs. 17-18",
+            "figure",
+            "per-link reduced gravity moments and inertias over the crank angle",
+            "not reproducible",
+            "impact_reduced.png",
+            note="the figures are missing from the text; every body's curves computed "
+            "(findings.reduced_terms, tested) and drawn",
+        ),
+        Item(
+            "finding: gravity",
+            "finding",
+            "from 60 deg of crank angle to the blow gravity turns the crank forward",
+            "reproduced",
+            "machines.impact.findings.gravity_assist",
+            (_t(_FIND + "test_gravity_assists_the_crank_before_the_blow"),),
+            "with the tool down, over the 86.4 deg before the blow (0.56 J); the paper's "
+            "origin of the crank angle is in a missing figure",
+        ),
+        Item(
+            "eq. (13)",
+            "equation",
+            "the equation of motion in energy form with Kloss's motor",
+            "reproduced",
+            "machines.impact.drive.steady_state",
+            (_t("drive::test_stepping_against_solve_ivp"),),
+            "stepping against solve_ivp to 1e-7",
+        ),
+        Item(
+            "eqs. (14)-(18)",
+            "equation",
+            "the stepping's quartic in omega_i",
+            "erratum",
+            "dynamics.equation_of_motion.quartic_coefficients",
+            (
+                "tests/test_equation_of_motion.py::test_quartic_coefficients_match_symbolic_"
+                "derivation",
+                _t("drive::test_stepping_against_solve_ivp"),
+            ),
+            "(14) the sign of 2A/dphi, (16) the squared slip, (17)-(18) the factor a^2/2: "
+            "derived; one positive real root per step (the paper's claim) holds",
+        ),
+        Item(
+            "eqs. (19)-(21)",
+            "equation",
+            "the striker's equilibrium: F43, F45",
+            "reproduced",
+            "machines.impact.paper001",
+            (_t("forces::test_paper_eq20_eq21_on_the_involute_five_link"),),
+            "(20) is the rocker's force on the striker (the text says the reverse)",
+        ),
+        Item(
+            "eqs. (22)-(28)",
+            "equation",
+            "the rocker's joint forces from its moment equations",
+            "not reproducible",
+            "dynamics.kinetostatics",
+            note="they refer to figures missing from the text; the joint forces come from the "
+            "general kinetostatics, power-balanced (test_impact_forces.py::test_power_balance)",
+        ),
+        Item(
+            "Figs. 25-26",
+            "figure",
+            "the five-link's joint forces, driving moment and rocker-striker force",
+            "not reproducible",
+            "impact_five_link_forces.png, impact_five_link_forces.csv",
+            note="the figures are missing from the text; drawn and exported from the kinetostatics",
+        ),
+        Item(
+            "finding: alignment",
+            "finding",
+            "the joint forces peak when the links line up",
+            "refuted",
+            "machines.impact.forces.force_findings",
+            (_t("forces::test_findings_reported"),),
+            "they peak about 16 deg before a dead centre, where the rocker's acceleration "
+            "peaks: near, not at, the alignment",
+        ),
+        Item(
+            "finding: F34",
+            "finding",
+            "the rocker-striker force is many times smaller than the four-bar's joint forces",
+            "refuted",
+            "machines.impact.findings.pair_force_findings",
+            (_t(_FIND + "test_pair_force_findings"), _t("forces::test_findings_reported")),
+            "0.42 of the four-bar's peak with a 3 kg striker: smaller, not many times",
+        ),
+        Item(
+            "finding: M_D",
+            "finding",
+            "pair, inertia and gravity forces assist the driving moment at the rocker's "
+            "extreme and pre-impact positions",
+            "refuted",
+            "machines.impact.findings.pair_force_findings",
+            (_t(_FIND + "test_pair_force_findings"),),
+            "the driving moment is about 0 (< 0.2 N m) at the extremes and positive (2-17 N m) "
+            "over the 20 deg before the blow: the striker is being accelerated",
+        ),
+        Item(
+            "conclusion 9",
+            "finding",
+            "the joints' main loads are normal forces along the links",
+            "reproduced",
+            "machines.impact.findings.pair_force_findings",
+            (_t(_FIND + "test_pair_force_findings"),),
+            "at A and B along the rod (cos > 0.9999 at the peaks); the rocker's pivot D is "
+            "not loaded along the rocker (mean cos 0.80)",
+        ),
+        Item(
+            "conclusion 3",
+            "finding",
+            "the support position (rho) lowers the guide force and changes speed and stroke",
+            "reproduced",
+            "machines.impact.findings.support_position_effect",
+            (_t(_FIND + "test_support_position_conclusion_3"),),
+            "least guide force 135 N at rho = 90 deg; stroke 15.7-44.9 mm, speed 2.49-4.80 m/s "
+            "over rho 50-130 deg",
+        ),
+        Item(
+            "conclusion 4, guide",
+            "finding",
+            "a longer extra rod lowers the force between striker and guide",
+            "reproduced",
+            "machines.impact.findings.extra_rod_effect",
+            (_t(_FIND + "test_extra_rod_length_conclusion_4"),),
+            "at every rho (57, 90, 123 deg) over K-N 50-90 mm",
+        ),
+        Item(
+            "conclusion 4, speed",
+            "finding",
+            "a longer extra rod raises the striker's speed and stroke",
+            "refuted",
+            "machines.impact.findings.extra_rod_effect",
+            (_t(_FIND + "test_extra_rod_length_conclusion_4"),),
+            "holds for rho > 90 deg only; at 90 deg neither changes, below 90 both fall",
+        ),
+        Item(
+            "conclusions 1-2",
+            "finding",
+            "the new schemes reduce the transverse load of the percussive machine",
+            "reproduced",
+            "machines.impact.forces.force_findings",
+            (_t("forces::test_transverse_housing_load_against_the_base_machine"),),
+            "about 1,040 N (base) to 180 N (six-link) and 270 N (five-link) across the tool",
+        ),
+        Item(
+            "the blow",
+            "data",
+            "the blow and the change of structure (the paper has no impact model)",
+            "added",
+            "machines.impact.impact.blow",
+            (_t("blow::test_newton_law_bookkeeping"),),
+        ),
+        Item(
+            "synthesis",
+            "recommendation",
+            "the dimensions for the blow energy (the paper's 'synthesis of the parameters')",
+            "added",
+            "machines.impact.synthesis.synthesize",
+            (_t("synthesis::test_certified_synthesis"),),
+        ),
+    ),
+)

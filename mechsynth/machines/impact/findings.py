@@ -191,8 +191,9 @@ def rocker_profile(machine: ImpactMachine, width, n=721) -> dict:
     it along the guide's direction seen from the rocker (the contact normal). Their radii of
     curvature are measured from the points by finite differences and set beside the
     involute's, ``sqrt(r^2 - rb^2)`` (``r`` the distance from D, ``rb`` the base radius), and
-    the axis's ``+- width/2``: the paper found them equal. Returns the curves (``(x, y)`` arrays, m), the radii (m) and
-    the largest relative differences (ends trimmed by 5 % where the rocker turns slowly)."""
+    the axis's ``+- width/2``: the paper found them equal. Returns the curves (``(x, y)``
+    arrays, m), the radii (m) and the largest relative differences (ends trimmed by 5 % where
+    the rocker turns slowly)."""
     width = validate.length("width", width)
     p = machine.linkage.parameters
     if "N_profile_base_radius" not in p:
