@@ -325,6 +325,12 @@ def test_linkage_min_transmission_and_slider_crank():
         ({"mechanism": "slider-crank", "variables": {"XX": (1, 2)}}, "dimensions are"),
         ({"trace": "P"}, "trace and variables are for a Linkage"),
         ({"mechanism": 3}, "mechanism must be"),
+        ({"mechanism": "slider-crank", "variables": 1.0}, "variables must be a dict"),
+        ({"mechanism": "slider-crank", "trace": 1.0}, "trace must be a point's name"),
+        ({"constraints": 1.0}, "constraints must be a list"),
+        ({"constraints": [1.0]}, "compared with a bound"),
+        ({"feasibility_margin": 1e300}, "feasibility_margin"),
+        ({"direction": "up"}, "direction"),
     ],
 )
 def test_bad_linkage_input(kw, match):

@@ -65,6 +65,7 @@ _IPOPT = {
     "ipopt.acceptable_tol": 1e-8,
     "ipopt.constr_viol_tol": 1e-10,
     "ipopt.max_iter": 400,
+    "ipopt.max_cpu_time": 60.0,  # a start that wanders ends rather than hangs
     "ipopt.mu_strategy": "adaptive",
     "error_on_fail": False,
     "show_eval_warnings": False,
@@ -455,9 +456,15 @@ def _path_generation(
                 f"min_transmission must be in [0, 90) deg, got {np.rad2deg(min_mu):.6g} deg"
             )
     starts = validate.integer("starts", starts, lo=1, hi=10000)
-    margin = validate.nonnegative("feasibility_margin", feasibility_margin)
+    margin = validate.number("feasibility_margin", feasibility_margin)
+    if not 0.0 <= margin < 0.1:
+        raise MechanismError(
+            f"feasibility_margin is relative to the links' sum: need [0, 0.1), got {margin:.6g}"
+        )
     if time_limit is not None:
-        time_limit = validate.positive("time_limit", time_limit, "s")
+        time_limit = validate.number("time_limit", time_limit, "s")
+        if not time_limit > 0:
+            raise MechanismError(f"time_limit must be positive (s), got {time_limit:.6g}")
     if general or mechanism == "slider-crank":
         return _general(
             t,
@@ -660,7 +667,13 @@ def _general(t, mechanism, trace, variables, bounds, timing, given, min_mu, obje
 
     if bounds is not None:
         raise MechanismError("bounds are the four-bar's; give a linkage's as variables=...")
-    if mechanism == "slider-crank":
+    if variables is not None and not isinstance(variables, dict):
+        raise MechanismError(
+            f"variables must be a dict {{parameter: (lower, upper)}}, got {variables!r}"
+        )
+    if trace is not None and not isinstance(trace, str):
+        raise MechanismError(f"trace must be a point's name, got {trace!r}")
+    if isinstance(mechanism, str) and mechanism == "slider-crank":
         lk = slider_crank_template()
         var = _slider_crank_variables(t)
         for k, b in (variables or {}).items():

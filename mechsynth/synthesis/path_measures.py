@@ -44,7 +44,18 @@ def _kind(c):
 
 def check_types(constraints) -> tuple:
     """The constraints as a tuple, each checked to be one path generation accepts."""
-    out = tuple(constraints or ())
+    from ..objectives.base import Constraint
+
+    if constraints is None:
+        return ()
+    if isinstance(constraints, Constraint):
+        constraints = [constraints]
+    if not isinstance(constraints, (list, tuple)):
+        raise MechanismError(
+            "constraints must be a list of measures compared with bounds, e.g. "
+            f"[ms.objectives.max_pressure_angle() <= ms.deg(40)], got {constraints!r}"
+        )
+    out = tuple(constraints)
     for c in out:
         _kind(c)
     return out
