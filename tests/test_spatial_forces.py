@@ -301,3 +301,27 @@ def test_bad_force_input_is_named():
         s.forces(TH, SPEED, counterbalance=5.0)
     with pytest.raises(ValueError, match="unknown pair"):
         s.forces(TH, SPEED).pair("Z")
+
+
+def test_pin_play_frees_the_redundant_drive():
+    """Wear clearance: a pin that tilts freely in its hole by the misfit the rigid motion asks
+    for carries no moment, so with the largest misfit as play the redundant drive is the
+    rational one; the split falls monotonically with the play in between."""
+    from mechsynth.errors import MechanismError
+
+    built = ms.SpatialPumpingUnit.from_planar(_unit(), 1.2).replace(**DEV)
+    th = TH[::3]
+    kw = dict(load=50e3, masses=MASSES, counterbalance=CB)
+    f0 = built.forces(th, SPEED, **kw)
+    rat = built.with_joints("spherical").forces(th, SPEED, **kw)
+    need = max(float(np.max(v)) for v in f0.info["misfit_angle"].values())
+    assert 1e-4 < need < 1e-2  # a few mrad
+    splits = [built.forces(th, SPEED, pin_play=p * need, **kw).peak_split for p in (0, 0.5, 1)]
+    assert splits[0] > splits[1] > splits[2]
+    free = built.forces(th, SPEED, pin_play=need, **kw)
+    np.testing.assert_allclose(free.crank_torque, rat.crank_torque, atol=1e-6 * 50e3)
+    # the pitman forces to 2e-4: the rational drive as built leaves the equalizer's yaw
+    # unbalanced by a few newtons (its kinematics places the equalizer for massless pitmans)
+    np.testing.assert_allclose(free.pitman_force["left"], rat.pitman_force["left"], rtol=2e-4)
+    with pytest.raises(MechanismError, match="pin_play"):
+        built.forces(th, SPEED, pin_play=-1.0, **kw)

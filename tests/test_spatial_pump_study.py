@@ -64,7 +64,25 @@ def test_study_run_reduced(tmp_path, capsys):
     for f in ("cycle", "tolerances", "sweep", "tolerance_chart", "design_chart"):
         assert f"spatial_pump_{f}.csv" in names
     assert "spatial_pump.json" in names and "spatial_pump.gif" in names
-    assert len(data["errata"]) >= 12
+    assert len(data["errata"]) >= 13
+    assert any("Conclusion 2 contradicts the body" in e for e in data["errata"])
+    # the paper's stated values are the ideal drive's: R12z = 0 and M_R12x = 0 to round-off
+    st = data["paper_stated_values"]
+    assert st["max_R12z_kN"]["ideal"] < 1e-9 and st["max_M_R12x_Nm"]["ideal"] < 1e-6
+    assert st["max_M_R12x_Nm"]["as_built"] > 10.0  # as built the pins carry moments
+    # wear clearance: a few mrad of play frees the pins; then the drive is the rational one
+    c = data["clearance"]
+    assert 1.0 < c["play_for_rational_mrad"] < 10.0
+    assert abs(c["freed_split"] - c["split_rational"]) < 1e-3
+    assert c["freed_torque_vs_rational_Nm"] < 1.0
+    assert c["splits"][0] > c["splits"][-1]
+    assert (
+        c["play_for_limit_mrad"] is None or c["play_for_limit_mrad"] < c["play_for_rational_mrad"]
+    )
+    for f in ("polished_rod", "clearance"):
+        assert f"spatial_pump_{f}.png" in names
+    assert "spatial_pump_coverage.csv" in names
+    assert data["coverage"]["study"] == "spatial-pump"
 
 
 @pytest.mark.parametrize(

@@ -492,6 +492,7 @@ def spatial_forces(
     masses: SpatialMasses | None = None,
     epsilon=0.0,
     gravity=GRAVITY,
+    pin_play=0.0,
 ) -> SpatialForces:
     """Reactions in every pair, the pitman forces and moments and the crank torque.
 
@@ -509,6 +510,11 @@ def spatial_forces(
     masses : :class:`SpatialMasses` (default: massless links).
     epsilon : crank angular acceleration (rad/s^2).
     gravity : g (m/s^2) along -y.
+    pin_play : the angle (rad) a pin can tilt freely in its hole at A, A1, B, B1 (wear
+        clearance: diametral clearance / bearing length), for the redundant drive. Each pair's
+        misfit rotation is shortened by it (a dead zone: a pin inside its play carries no
+        moment, beyond it the rest of the misfit strains the pitmans); ``info["misfit_angle"]``
+        gives the misfit (rad) of each pair, the play that frees it.
 
     Returns
     -------
@@ -529,6 +535,9 @@ def spatial_forces(
     if not isinstance(masses, SpatialMasses):
         raise MechanismError("masses must be a SpatialMasses")
     g = check_finite("gravity", gravity)
+    play = float(check_finite("pin_play", pin_play))
+    if play < 0.0:
+        raise MechanismError(f"pin_play must be >= 0 rad (clearance / bearing length), got {play}")
     theta = np.asarray(theta, dtype=float)
     m = unit.motion(theta, speed=speed, epsilon=epsilon)
     w = rod_load(unit, m, theta, load)
@@ -611,6 +620,7 @@ def spatial_forces(
         lean = (unit.crank_spacing - unit.equalizer_width) / 2.0 / L[body]
         frames[side] = _pitman_frame(K[body].axis, n_o, lean if side == "left" else -lean)
     compliance = misfit = None
+    misfit_angle = {}
     if kind == "revolute":
         compliance, misfit = {}, {}
         for side, jb, ja in (("left", "R24", "R12"), ("right", "R34", "R13")):
@@ -624,6 +634,15 @@ def spatial_forces(
             zero = np.zeros(shape + (3,))
             misfit[ja] = (zero, cross(n_o, h))  # crank pin (by) -> pitman hole (on)
             misfit[jb] = (zero, cross(h, e_axis))  # pitman hole (by) -> equalizer pin (on)
+            # the tilt (rad) of each pin in its hole that the rigid motion asks for: a
+            # diametral clearance of (bearing length x this angle) lets the pair take it freely
+            for j in (ja, jb):
+                rot = misfit[j][1]
+                size = norm(rot)
+                misfit_angle[j] = size
+                if play > 0.0:
+                    keep = np.maximum(size - play, 0.0) / np.where(size > 0.0, size, 1.0)
+                    misfit[j] = (zero, rot * keep[..., None])
     length = float(np.max(np.asarray(unit.rear_arm)))
     sol = solve_spatial(
         ["crank", "pitman_left", "pitman_right", "equalizer", "beam"],
@@ -668,6 +687,7 @@ def spatial_forces(
         residual=sol.residual,
         motion=m,
         info={
+            "misfit_angle": misfit_angle,
             "rank": sol.rank,
             "nullity": sol.nullity,
             "masses": masses,
