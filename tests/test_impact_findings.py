@@ -139,3 +139,23 @@ def test_five_link_torque_is_the_power_balanced_driving_moment(five):
     dj = (np.roll(j, -1) - np.roll(j, 1)) / (2 * (phi[1] - phi[0]))
     torque = np.asarray(f.result.torque)
     np.testing.assert_allclose(torque, 0.5 * w * w * dj - r["gravity_total"], atol=0.05 * 30)
+
+
+def test_circular_links_nest_only_with_a_long_rocker(five, six):
+    # the representative rocker (36 mm) cannot hold the rod's disc (r_B = 87 mm with 8 mm
+    # shafts and 3 mm walls): its axis D would lie inside the recess
+    c = F.circular_links(five)
+    assert c["r_A"] == pytest.approx(0.011 + 0.008 + 0.003)
+    assert c["r_B"] == pytest.approx(0.062 + c["r_A"] + 0.003)
+    assert not c["feasible"] and c["rocker_needed"] == pytest.approx(0.098)
+    s = F.circular_links(six)
+    assert s["r_N"] > s["r_K"] > s["r_B"] and not s["feasible"]
+    # a crank-rocker with a 100 mm rocker (120 mm ground) nests, and moves as its lever scheme
+    from mechsynth.machines.impact.model import five_link
+
+    lk = five_link(rocker=0.100, ground=0.120)
+    long = five.replace(linkage=lk, anvil=None, sense=None)
+    assert F.circular_links(long)["feasible"]
+    assert F.circular_links(long)["margins"]["axis D outside the recess"] == pytest.approx(0.002)
+    with pytest.raises(MechanismError, match="shaft"):
+        F.circular_links(five, shaft=0.0)

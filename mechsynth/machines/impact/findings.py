@@ -31,6 +31,7 @@ __all__ = [
     "reduced_terms",
     "gravity_assist",
     "pair_force_findings",
+    "circular_links",
 ]
 
 BODY_NAMES = {"OA": "crank", "AB": "rod", "DB": "rocker", "KN": "extra rod", "N": "striker"}
@@ -358,3 +359,49 @@ def pair_force_findings(machine: ImpactMachine, n=720, window_deg=20.0) -> dict:
         "four_bar_peak_N": four_bar,
         "rocker_striker_ratio": None if rs is None else rs / four_bar,
     }
+
+
+def circular_links(machine: ImpactMachine, shaft=0.008, wall=0.003) -> dict:
+    """Paper 001's circular-link embodiments (Figs. 5 and 7): every pair enlarged to a disc
+    turning in a bore, the links nested -- the crank an eccentric disc about A in the rod's
+    bore, the rod a disc about B in the rocker's recess, the rocker on its axis D (five-link,
+    Fig. 7) or, in the six-link (Fig. 5), an eccentric disc about K in the bore of the extra
+    rod, itself a disc about N in the rectangular slider.
+
+    A pair of any radius is still a revolute pair about its centre, so the embodiment moves as
+    the lever scheme with the same centre distances (the paper's claim, true by construction).
+    What it adds are the nesting conditions, with ``shaft`` (m) the crankshaft's and the
+    rocker axis's radius and ``wall`` (m) the least wall between a bore and a rim:
+
+    * the crank disc holds the shaft: ``r_A = OA + shaft + wall``;
+    * the rod's disc holds the crank's bore: ``r_B = AB + r_A + wall``;
+    * the rocker's axis D lies outside the recess: ``DB >= r_B + shaft + wall``;
+    * six-link: the rocker's disc about K holds the recess and the axis D:
+      ``r_K = max(KB + r_B, KD + shaft) + wall``, and the extra rod's disc
+      ``r_N = KN + r_K + wall``.
+
+    Returns the radii (m), each condition's margin (m, negative where it fails) and
+    ``"feasible"``; ``"rocker_needed"`` is the least rocker D-B for these walls.
+    """
+    shaft = validate.positive("shaft", shaft, "m")
+    wall = validate.nonnegative("wall", wall, "m")
+    p = machine.linkage.parameters
+    oa, ab, db = float(p["OA"]), float(p["AB"]), float(p["DB"])
+    r_a = oa + shaft + wall
+    r_b = ab + r_a + wall
+    need = r_b + shaft + wall
+    out = {
+        "r_A": r_a,
+        "r_B": r_b,
+        "rocker": db,
+        "rocker_needed": need,
+        "margins": {"axis D outside the recess": db - need},
+    }
+    if "KN" in p:
+        ku, kv, kn = float(p["K_along"]), float(p["K_left"]), float(p["KN"])
+        kb = float(np.hypot(ku - db, kv))
+        kd = float(np.hypot(ku, kv))
+        r_k = max(kb + r_b, kd + shaft) + wall
+        out.update(r_K=r_k, r_N=kn + r_k + wall)
+    out["feasible"] = all(m >= 0.0 for m in out["margins"].values())
+    return out
