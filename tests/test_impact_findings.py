@@ -39,6 +39,15 @@ def test_extra_rod_length_conclusion_4(six):
     assert v[123.0]["speed_rises"] and v[123.0]["stroke_rises"]
     assert v[57.0]["trends"]["stroke"] == -1 and v[57.0]["trends"]["peak_velocity"] == -1
     assert e["unassembled"] == {57.0: [], 90.0: [], 123.0: []}
+    # the numbers docs/impact.md quotes (K-N 50 -> 90 mm)
+    for rho, (g0, g1), (s0, s1) in (
+        (90.0, (185.6, 107.4), (39.0, 39.0)),
+        (57.0, (4185.4, 1205.5), (45.7, 39.0)),
+        (123.0, (1357.0, 588.9), (20.0, 26.4)),
+    ):
+        row = e["rows"][rho]
+        assert row["peak_guide_force"][[0, -1]] == pytest.approx([g0, g1], abs=0.5)
+        assert row["stroke"][[0, -1]] * 1e3 == pytest.approx([s0, s1], abs=0.05)
 
 
 def test_extra_rod_variant_is_the_six_link_with_that_rod(six):
