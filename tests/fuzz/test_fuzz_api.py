@@ -300,3 +300,20 @@ def test_problem_files(tmp_path, n):
         ),
         body,
     )
+
+
+@pytest.mark.parametrize("n", SIZES)
+def test_path_generation_arguments(n):
+    def body(a, b, c):
+        check(
+            "path_generation",
+            lambda: ms.path_generation(
+                [(0, 0), (1, 0.2), (2, 0), (1, -0.6)],
+                starts=1,
+                min_transmission=a,
+                time_limit=b,
+                feasibility_margin=c,
+            ).error,
+        )
+
+    _run(n, st.tuples(hostile, hostile, hostile), body)
