@@ -222,7 +222,8 @@ class PathResult:
             mu0, mu1 = np.rad2deg(s.transmission)
             lines.append(
                 f"#{k}: error {s.error:.6g}{unit} (sum of squares {s.sum_squares:.6g}, largest "
-                f"distance {s.max_distance:.4g} m), transmission {mu0:.2f}-{mu1:.2f} deg, "
+                f"distance {s.max_distance:.4g} m), min transmission angle {mu0:.2f} deg "
+                f"(coupler-rocker angle up to {mu1:.2f} deg), "
                 f"{s.branch or 'linkage'}" + (f", {s.note}" if s.note else "")
             )
         b = self.best
