@@ -561,6 +561,7 @@ def run(
         "run_time_s": None,
         "options": {k: v for k, v in options.items() if k != "out"},
     }
+    data["coverage"] = COVERAGE.to_dict()  # also in spatial_pump.json
     errata = list(ERRATA) + _computed_errata(data)
     data["run_time_s"] = time.perf_counter() - t0  # the computation, figures not included
     files = []
