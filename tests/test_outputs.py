@@ -192,3 +192,53 @@ def test_an_unfinished_run_leaves_a_manifest_true_to_the_files(tmp_path, monkeyp
     assert set(listed) == {"a.csv", "b.csv", "c.csv"}
     for name, digest in listed.items():
         assert fileio.sha256(tmp_path / name) == digest
+
+
+@pytest.mark.slow
+def test_interrupted_at_every_write_of_a_run(tmp_path, monkeypatch, capsys):
+    """A second run into a complete --out, stopped by Ctrl-C just before each of its writes in
+    turn (and after its last): exit 130, no temporary file left, every file complete (the first
+    run's or the second's), and manifest.json true to the files on disk."""
+    from mechsynth.cli import main
+
+    problem = str(ROOT / "examples" / "optimize_slider_crank.toml")
+    out = tmp_path / "run"
+    first = ["optimize", problem, "--starts", "1", "--out", str(out), "--quiet"]
+    assert main(first) == 0
+    capsys.readouterr()
+    # the second run differs (another seed and speed of the bar): its files change
+    second = ["optimize", problem, "--starts", "2", "--seed", "3", "--out", str(out), "--quiet"]
+    real_replace = os.replace
+    writes = []
+
+    def counting(src, dst):
+        writes.append(dst)
+        return real_replace(src, dst)
+
+    monkeypatch.setattr(os, "replace", counting)
+    assert main(second) == 0
+    n = len(writes)
+    assert n >= 4  # result.json, report.txt, optimum.png, manifest.json
+    capsys.readouterr()
+    for k in range(n + 1):
+        calls = []
+
+        def stop_at_k(src, dst, k=k, calls=calls):
+            calls.append(dst)
+            if len(calls) == k + 1:
+                raise KeyboardInterrupt
+            return real_replace(src, dst)
+
+        monkeypatch.setattr(os, "replace", stop_at_k)
+        rc = main(second)
+        err = capsys.readouterr().err
+        assert rc in (0, 130), (k, err)
+        if k < n:
+            assert rc == 130 and "interrupted" in err and "Traceback" not in err, (k, err)
+        assert _leftovers(out) == [], k
+        manifest = json.loads((out / "manifest.json").read_text())
+        listed = {e["file"]: e["sha256"] for e in manifest["files"]}
+        on_disk = {p.name for p in out.iterdir()} - {"manifest.json"}
+        assert set(listed) == on_disk, (k, listed, on_disk)
+        for name, digest in listed.items():
+            assert fileio.sha256(out / name) == digest, (k, name)
