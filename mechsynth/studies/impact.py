@@ -688,13 +688,14 @@ def _findings_lines(f):
     L = [" paper 001's arguments (six-link: extra rod and support; five-link: profile, dynamics):"]
     word = {1: "rises", -1: "falls", 0: "flat/not monotone"}
     for r, v in e["verdict"].items():
-        t = v["trends"]
+        t, row = v["trends"], e["rows"][r]
+        ok = np.isfinite(row["stroke"])
+        gf, sp, st = (row[k][ok] for k in ("peak_guide_force", "peak_velocity", "stroke"))
         L.append(
-            f"   K-N {e['lengths'][0] * 1e3:.0f}-{e['lengths'][-1] * 1e3:.0f} mm at rho {r:g} deg:"
-            f" guide force {word[t['peak_guide_force']]} "
-            f"({v['guide_force_change_rel']:.0%}), speed {word[t['peak_velocity']]} "
-            f"({v['speed_change_rel']:.1%}), stroke {word[t['stroke']]} "
-            f"({v['stroke_change_rel']:.1%})"
+            f"   K-N {e['lengths'][0] * 1e3:.0f} -> {e['lengths'][-1] * 1e3:.0f} mm at rho {r:g} "
+            f"deg: guide force {word[t['peak_guide_force']]} ({gf[0]:.0f} -> {gf[-1]:.0f} N), "
+            f"peak speed {word[t['peak_velocity']]} ({sp[0]:.3f} -> {sp[-1]:.3f} m/s), stroke "
+            f"{word[t['stroke']]} ({st[0] * 1e3:.1f} -> {st[-1] * 1e3:.1f} mm)"
         )
     v = e["verdict"].values()
     falls = all(x["guide_force_falls"] for x in v)
