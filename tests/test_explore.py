@@ -14,6 +14,7 @@ import pytest
 
 import mechsynth as ms
 from mechsynth.cli import main
+from mechsynth.errors import MechanismError
 from mechsynth.explore import model
 from mechsynth.explore.model import State, checks, curves, kind_names, load_file, to_toml
 
@@ -275,7 +276,9 @@ def test_page_shows_the_apis_stroke_and_moves_the_drawing(page):
     slider = page.dim_widgets["crank"][0]
     from mechsynth.explore.app import label_of
 
-    assert label_of(slider) == "crank, mm" and slider.value == pytest.approx(70.0)
+    assert label_of(slider) == "crank, mm (crank OA)" and slider.value == pytest.approx(70.0)
+    assert label_of(page.dim_fields["crank"]) == "crank, mm"
+    assert page.dim_fields["crank"].value == "70"
     x_before = list(page.src_joints.data["x"])
     slider.value = 80.0
     assert "160 mm" in page.stats.object
@@ -293,8 +296,8 @@ def test_page_puts_the_message_next_to_the_field(page):
     page.dim_widgets["rod"][0].value = 240.0
     assert not msg.visible and "140 mm" in page.stats.object
     _, vary, lo, hi, msg = page.dim_widgets["offset"]
-    lo.value = 50.0
-    hi.value = -50.0
+    lo.value = "50"
+    hi.value = "-50"
     assert msg.visible and "lower bound 50 mm is not below the upper bound -50 mm" in msg.object
 
 
@@ -332,9 +335,9 @@ def test_page_follows_the_display_units_and_the_mechanism(page):
 
     slider = page.dim_widgets["crank"][0]
     page.units_select.value = "si"
-    assert label_of(page.dim_widgets["crank"][0]) == "crank, m"
+    assert label_of(page.dim_fields["crank"]) == "crank, m"
     assert page.dim_widgets["crank"][0].value == pytest.approx(0.07)
-    assert "0.14 m" in page.stats.object and slider is not page.dim_widgets["crank"][0]
+    assert "0.14 m" in page.stats.object and slider is page.dim_widgets["crank"][0]
     page.kind_select.value = "four-bar"
     assert set(page.dim_widgets) == {"crank", "coupler", "rocker", "ground"}
     assert "swing" in page.stats.object and "deg" in page.stats.object
@@ -433,3 +436,42 @@ def test_solve_worker_reports_failures_as_text():
     model.solve_worker({"mechanism": "nope"}, q)
     kind, text = q.get_nowait()
     assert kind == "error" and "Error: mechanism must be one of" in text
+
+
+def test_page_exports_a_png_that_says_why_when_no_design_is_valid(tmp_path):
+    pytest.importorskip("panel")
+    from mechsynth.explore.app import Explorer
+
+    st = State.default("slider-crank", units="mm-deg")
+    st.values["rod"] = 0.05  # shorter than the crank: nothing valid to draw
+    page = Explorer(st, out=tmp_path)
+    assert page.design is None and page.design_msg.visible
+    png = page._export_drawing().getvalue()
+    assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 1000
+    assert "No valid design to draw" in page.export_msg.object
+    chart = page._export_chart().getvalue()  # before any sweep: a PNG that says so
+    assert chart[:8] == b"\x89PNG\r\n\x1a\n" and "press Sweep" in page.export_msg.object
+    assert page.dl_chart.disabled
+
+
+def test_fields_refuse_text_and_negative_speeds():
+    st = State.default("slider-crank", units="mm-deg")
+    with pytest.raises(MechanismError, match="'0.2x' is not a number"):
+        model.parse_number("0.2x", "rod, mm")
+    with pytest.raises(MechanismError, match="the field is empty"):
+        model.parse_number("  ", "rod, mm")
+    with pytest.raises(MechanismError, match="must be positive, or 0 for analogs.*got -600"):
+        st.set_speed("-600")
+    assert st.speed == pytest.approx(2 * np.pi * 10)  # unchanged
+    st.set_speed("0")
+    assert st.speed is None
+
+
+def test_a_slider_driven_linkage_runs_over_its_travel():
+    st = load_file(EXAMPLES / "optimize_cylinder_rocker.toml", units="mm-deg")
+    design, message = st.check_design()
+    assert message is None
+    assert st.speed_field() == ("Input speed (driving slider), mm/s", 200.0)
+    c = model.curves(st, design)
+    lo, hi = design.input_range
+    assert c["input_unit"] == "m" and c["angle"][0] == lo and c["angle"][-1] == hi

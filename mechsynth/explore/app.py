@@ -1,9 +1,11 @@
 """The explorer page (Panel and Bokeh) and its server.
 
 One :class:`Explorer` per browser session: it turns widgets into a
-:class:`~mechsynth.explore.model.State` and the model's answers into Bokeh glyphs. The
-certified solve runs in a worker process (cancellable, reporting its starts), chart sweeps in a
-worker thread; a periodic callback collects their results, so no computation blocks the page.
+:class:`~mechsynth.explore.model.State` and the model's answers into Bokeh glyphs. A design's
+whole cycle is sent to the browser once (:mod:`.animation`) and played there at the display's
+frame rate. The certified solve runs in a worker process (cancellable, reporting its starts),
+chart sweeps in a worker thread (reporting their chunks); a periodic callback collects their
+results, so no computation blocks the page.
 """
 
 from __future__ import annotations
@@ -15,6 +17,8 @@ import multiprocessing
 import queue
 import socket
 import sys
+import tempfile
+import threading
 import time
 import webbrowser
 from concurrent.futures import ThreadPoolExecutor
@@ -22,27 +26,80 @@ from pathlib import Path
 
 import numpy as np
 import panel as pn
-from bokeh.models import ColumnDataSource, HoverTool, LinearColorMapper, Span, TapTool
+from bokeh.layouts import column, row
+from bokeh.models import (
+    Button,
+    CheckboxGroup,
+    ColorBar,
+    ColumnDataSource,
+    CustomJS,
+    Div,
+    HoverTool,
+    Label,
+    LinearColorMapper,
+    Range1d,
+    Slider,
+    Span,
+    TapTool,
+)
 from bokeh.plotting import figure
 
 from ..errors import MechanismError
+from .animation import A11Y_JS, COLORS, FRAMES, PLAYER_JS, fit_ranges, frame_glyphs, frames
 from .model import (
     State,
     checks,
     curves,
     kind_names,
     load_file,
+    parse_number,
     solve_worker,
     sweep_chart,
 )
 
-__all__ = ["Explorer", "serve", "free_port"]
+__all__ = ["Explorer", "serve", "free_port", "label_of"]
 
-FRAMES = 72  # frames of the animation per turn
-FIGURE = (560, 460)  # drawing size, px
-FRAME = (FIGURE[0] - 75, FIGURE[1] - 85)  # about its inner frame (axes and title taken off)
-COLORS = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#F0E442"]
 _POOL = ThreadPoolExecutor(max_workers=2, thread_name_prefix="mechsynth-explore")
+_WARM: dict[str, object] = {}  # kind key -> the future of its warm-up sweep (one per process)
+_WARM_LOCK = threading.Lock()
+CHART_ANGLES = 180  # crank angles per design in a chart sweep
+
+
+def warm(state: State):
+    """Start (once per mechanism and process) a tiny sweep in the background so that the
+    first chart of the page finds its compiled kernels loaded; returns its future."""
+    key = state.kind.key
+    with _WARM_LOCK:
+        fut = _WARM.get(key)
+        if fut is None:
+            dims = [d.name for d in state.kind.dims]
+            snap = _snapshot(state)
+            fut = _POOL.submit(_quiet_sweep, snap, dims[0], dims[1], 3)
+            _WARM[key] = fut
+    return fut
+
+
+def _quiet_sweep(state, x, y, n):
+    try:
+        return sweep_chart(state, x, y, n, angles=CHART_ANGLES)
+    except (ValueError, MechanismError):
+        return None
+
+
+def _snapshot(st: State) -> State:
+    return State(
+        st.kind,
+        dict(st.values),
+        dict(st.vary),
+        st.objective,
+        st.sense,
+        list(st.constraints),
+        st.speed,
+        st.units,
+        st.method,
+        st.starts,
+        st.seed,
+    )
 
 
 class Explorer:
@@ -52,9 +109,10 @@ class Explorer:
     ----------
     state : the state to start from (a mechanism with its problem).
     out : folder where exports are also written (None: downloads only).
+    source : the name of the file ``state`` was read from (shown in the mechanism menu).
     """
 
-    def __init__(self, state: State, out: Path | None = None):
+    def __init__(self, state: State, out: Path | None = None, source: str | None = None):
         self.state = state
         self.out = Path(out) if out else None
         self.loaded = {}
@@ -62,75 +120,101 @@ class Explorer:
         self.design = None
         self.sketch = None
         self.curve_data = None
+        self.frame_cols, self.frame_meta = None, None
         self._proc = None
         self._queue = None
         self._t0 = 0.0
         self._sweep = None
+        self._sweep_t0 = 0.0
+        self._sweep_progress = [None]
         self._stage = ""
         self._chart = None
+        self._chart_state = None
         self._building = False
         self._design_msgs = {}
-        self._build_widgets()
+        self._field_msgs = {}
+        self._kind_value = None
+        self._fit_next = True
+        self._reaped = []
+        self._rows, self._row_dims = [], []
+        self._build_widgets(source)
         self._rebuild_dims()
         self._refresh(None)
 
     # ------------------------------------------------------------------ widgets
-    def _build_widgets(self):
-        titles = kind_names()
-        options = {v: k for k, v in titles.items()}
-        self._file_key = None
-        if self.state.kind.title not in titles.values():
-            self._file_key = self.state.kind.title
-            options = {self.state.kind.title: "__file__", **options}
+    def _build_widgets(self, source):
+        options = {v: k for k, v in kind_names().items()}
+        value = self.state.kind.key
+        if source is not None or self.state.kind.key not in kind_names():
+            label = _file_label(self.state, source)
+            options = {label: "__file__", **options}
             self.loaded["__file__"] = self.state
+            value = "__file__"
+        self._kind_value = value
         self.kind_select = _widget(
-            pn.widgets.Select,
-            "Mechanism",
-            options=options,
-            width=340,
-            value="__file__" if self._file_key else self.state.kind.key,
+            pn.widgets.Select, "Mechanism", options=options, value=value, width=330
         )
-        self.kind_select.param.watch(self._on_kind, "value")
+        self._watch(self.kind_select, self._on_kind)
+        self.upload = _widget(
+            pn.widgets.FileInput,
+            "Open a TOML file (problem, design or linkage file)",
+            accept=".toml",
+            multiple=False,
+            width=330,
+            css_classes=["upload"],
+        )
+        self._watch(self.upload, self._on_upload)
         self.file_input = _widget(
             pn.widgets.TextInput,
-            "Load a TOML file (problem, design or linkage file) on this computer",
+            "or a file's path on the server's computer",
             placeholder="path/to/file.toml",
-            width=270,
+            width=250,
         )
-        self.file_button = _widget(pn.widgets.Button, "Load", width=60, align="end")
-        self.file_button.on_click(self._on_load)
-        self.file_msg = pn.pane.Alert("", alert_type="danger", visible=False, width=340)
+        self.file_button = _widget(pn.widgets.Button, "Load", width=70, align="end")
+        self.file_button.on_click(lambda e: self._later(self._on_load, e))
+        self.file_msg = pn.pane.Alert(
+            "", alert_type="danger", visible=False, width=330, css_classes=["file-message"]
+        )
         self.units_select = _widget(
             pn.widgets.Select,
             "Display units",
             options=["si", "mm-deg", "oilfield"],
             value=self.state.units,
-            width=160,
+            width=130,
         )
-        self.units_select.param.watch(self._on_units, "value")
+        self._watch(self.units_select, self._on_units)
         self.speed_input = _widget(
-            pn.widgets.FloatInput,
+            pn.widgets.TextInput,
             "Crank speed, rpm",
-            value=0.0,
-            start=0.0,
-            width=150,
-            description="0: velocities and accelerations as analogs per radian of crank angle",
+            value="0",
+            width=190,
+            css_classes=["speed"],
+            description="0: velocities and accelerations as analogs per unit of the input",
         )
-        self.speed_input.param.watch(self._on_speed, "value")
-        self.dims_col = pn.Column(width=360)
+        self._watch(self.speed_input, self._on_speed)
+        self.speed_msg = pn.pane.Alert(
+            "", alert_type="danger", visible=False, width=330, css_classes=["speed-message"]
+        )
+        self.dims_col = pn.Column(width=340)
         self.design_msg = pn.pane.Alert(
-            "", alert_type="danger", visible=False, width=340, css_classes=["design-message"]
+            "", alert_type="danger", visible=False, width=330, css_classes=["design-message"]
         )
 
-        # drawing
+        # drawing: all frames of the cycle go to the browser, which plays them
+        x0, x1, y0, y1 = fit_ranges((-1, 1, -1, 1), 600, 380)
         self.fig = figure(
-            width=FIGURE[0],
-            height=FIGURE[1],
+            height=440,
+            min_width=300,
+            sizing_mode="stretch_width",
             tools="pan,wheel_zoom,reset,save",
+            x_range=Range1d(x0, x1),
+            y_range=Range1d(y0, y1),
             title="",
             x_axis_label="x",
             y_axis_label="y",
+            name="drawing",
         )
+        self.fig.toolbar.active_scroll = None
         self.src_bars = ColumnDataSource(dict(xs=[], ys=[], color=[]))
         self.src_plates = ColumnDataSource(dict(xs=[], ys=[], color=[]))
         self.src_paths = ColumnDataSource(dict(xs=[], ys=[], color=[]))
@@ -139,153 +223,140 @@ class Explorer:
         self.src_joints = ColumnDataSource(dict(x=[], y=[], name=[]))
         self.src_ground = ColumnDataSource(dict(x=[], y=[], name=[]))
         self.src_blocks = ColumnDataSource(dict(x=[], y=[], angle=[], w=[], h=[]))
-        self.fig.multi_line(
-            "xs",
-            "ys",
-            source=self.src_paths,
-            line_color="color",
-            line_dash="dashed",
-            line_width=1.2,
-            name="paths",
-        )
-        self.fig.multi_line(
+        self.src_vel = ColumnDataSource(dict(xs=[], ys=[]))
+        self.src_acc = ColumnDataSource(dict(xs=[], ys=[]))
+        self.src_frames = ColumnDataSource(dict(input=[]), name="frames")
+        self.src_meta = ColumnDataSource(dict(json=[], force=[]), name="meta")
+        f = self.fig
+        f.multi_line(
+            "xs", "ys", source=self.src_paths, line_color="color", line_dash="dashed",
+            line_width=1.2, name="paths",
+        )  # fmt: skip
+        f.multi_line(
             "xs", "ys", source=self.src_guides, line_color="#444444", line_width=2, name="guides"
         )
-        self.fig.multi_line(
-            "xs",
-            "ys",
-            source=self.src_outlines,
-            line_color="#555555",
-            line_width=2,
+        f.multi_line(
+            "xs", "ys", source=self.src_outlines, line_color="#555555", line_width=2,
             name="outlines",
-        )
-        self.fig.patches(
-            "xs",
-            "ys",
-            source=self.src_plates,
-            fill_color="color",
-            fill_alpha=0.35,
-            line_color="color",
-            line_width=3,
-            name="plates",
-        )
-        self.fig.multi_line(
+        )  # fmt: skip
+        f.patches(
+            "xs", "ys", source=self.src_plates, fill_color="color", fill_alpha=0.35,
+            line_color="color", line_width=3, name="plates",
+        )  # fmt: skip
+        f.multi_line(
             "xs", "ys", source=self.src_bars, line_color="color", line_width=5, name="bars"
         )
-        self.fig.rect(
-            "x",
-            "y",
-            width="w",
-            height="h",
-            angle="angle",
-            source=self.src_blocks,
-            fill_color="#bbbbbb",
-            line_color="#333333",
-            name="blocks",
-        )
-        self.fig.scatter(
-            "x",
-            "y",
-            source=self.src_ground,
-            marker="triangle",
-            size=16,
-            fill_color="#888888",
-            line_color="black",
-            name="ground",
-        )
-        self.fig.scatter(
-            "x",
-            "y",
-            source=self.src_joints,
-            size=9,
-            fill_color="white",
-            line_color="black",
-            line_width=2,
-            name="joints",
-        )
-        self.fig.text(
-            "x",
-            "y",
-            text="name",
-            source=self.src_joints,
-            x_offset=6,
-            y_offset=-6,
-            text_font_size="11px",
-            name="labels",
-        )
+        f.rect(
+            "x", "y", width="w", height="h", angle="angle", source=self.src_blocks,
+            fill_color="#bbbbbb", line_color="#333333", name="blocks",
+        )  # fmt: skip
+        f.scatter(
+            "x", "y", source=self.src_ground, marker="triangle", size=16, fill_color="#888888",
+            line_color="black", name="ground",
+        )  # fmt: skip
+        f.multi_line("xs", "ys", source=self.src_vel, line_color="#009E73", line_width=2.5,
+                     name="velocity")  # fmt: skip
+        f.multi_line("xs", "ys", source=self.src_acc, line_color="#CC79A7", line_width=2.5,
+                     name="acceleration")  # fmt: skip
+        f.scatter(
+            "x", "y", source=self.src_joints, size=9, fill_color="white", line_color="black",
+            line_width=2, name="joints",
+        )  # fmt: skip
+        f.text(
+            "x", "y", text="name", source=self.src_joints, x_offset=6, y_offset=-6,
+            text_font_size="11px", name="labels",
+        )  # fmt: skip
 
-        self.player = _widget(
-            pn.widgets.Player,
-            "Crank angle",
-            start=0,
-            end=FRAMES - 1,
-            value=0,
-            interval=60,
-            loop_policy="loop",
-            width=420,
-            show_value=False,
-            visible_loop_options=[],
+        # the player (in the browser)
+        self.frame = Slider(
+            start=0, end=FRAMES - 1, value=0, step=1, title="frame of the cycle",
+            show_value=False, sizing_mode="stretch_width", min_width=160, name="frame",
+        )  # fmt: skip
+        self.play = Button(label="Play", width=60, name="play", button_type="primary")
+        self.back = Button(label="Step back", width=80, name="back")
+        self.fwd = Button(label="Step forward", width=95, name="fwd")
+        self.reverse = Button(label="Reverse", width=70, name="reverse")
+        self.period = Slider(
+            start=0.5, end=20, value=3, step=0.5, title="seconds per cycle", width=150,
+            name="period",
+        )  # fmt: skip
+        self.vectors = CheckboxGroup(
+            labels=["velocity vectors", "acceleration vectors"], active=[], inline=True,
+            name="vectors",
+        )  # fmt: skip
+        self.input_label = Div(text="", name="input-label", width=150)
+        self.overlay = Label(
+            x=8, y=8, x_units="screen", y_units="screen", text="", text_font_size="12px",
+            text_color="#333333", name="input-overlay",
+        )  # fmt: skip
+        self.fig.add_layout(self.overlay)
+        self.curve_figs, self.curve_srcs, self.spans = [], [], []
+        for title in ("position", "velocity", "acceleration", "angles"):
+            cf = figure(
+                width=300, height=220, title=title, tools="pan,wheel_zoom,reset,save",
+                x_axis_label="crank angle, deg",
+            )  # fmt: skip
+            cf.toolbar.active_scroll = None
+            src = ColumnDataSource(dict(x=[], y=[], y2=[]))
+            cf.line(
+                "x", "y", source=src, line_width=2, color=COLORS[0],
+                legend_label="pressure" if title == "angles" else title,
+            )  # fmt: skip
+            if title == "angles":
+                cf.line("x", "y2", source=src, line_width=2, color=COLORS[1],
+                        legend_label="transmission")  # fmt: skip
+                cf.legend.location = "top_left"
+                cf.legend.label_text_font_size = "9px"
+            else:
+                cf.legend.visible = False
+            span = Span(location=0, dimension="height", line_color="#D55E00", line_width=1.5)
+            cf.add_layout(span)
+            self.curve_figs.append(cf)
+            self.curve_srcs.append(src)
+            self.spans.append(span)
+        args = dict(
+            sources=dict(
+                meta=self.src_meta, frames=self.src_frames, bars=self.src_bars,
+                plates=self.src_plates, joints=self.src_joints, blocks=self.src_blocks,
+                guides=self.src_guides, outlines=self.src_outlines, vel=self.src_vel,
+                acc=self.src_acc,
+            ),
+            fig=self.fig, frame=self.frame, play=self.play, period_s=self.period,
+            vectors=self.vectors, spans=self.spans, label=self.input_label, overlay=self.overlay,
+        )  # fmt: skip
+
+        def js(what):
+            return CustomJS(args=args, code=f"const what = {what!r};\n" + PLAYER_JS + A11Y_JS)
+
+        self.src_meta.js_on_change("data", js("meta"))
+        self.frame.js_on_change("value", js("frame"))
+        self.play.js_on_event("button_click", js("play"))
+        self.back.js_on_event("button_click", js("back"))
+        self.fwd.js_on_event("button_click", js("fwd"))
+        self.reverse.js_on_event("button_click", js("reverse"))
+        self.vectors.js_on_change("active", js("vectors"))
+        self.fig.js_on_change("inner_width", js("resize"))
+        self.fig.js_on_change("inner_height", js("resize"))
+        self.frame.on_change("value", lambda attr, old, new: self._on_frame(new))
+        self.trace_select = _widget(
+            pn.widgets.MultiChoice, "Trace the path of", options=[], value=[], width=300
         )
-        self.player.param.watch(self._on_frame, "value")
-        self.fps = _widget(
-            pn.widgets.IntSlider,
-            "Animation, frames per second",
-            start=2,
-            end=40,
-            value=16,
-            width=200,
-        )
-        self.fps.param.watch(lambda e: setattr(self.player, "interval", int(1000 / e.new)), "value")
+        self._watch(self.trace_select, lambda e: self._draw_paths())
         self.stats = pn.pane.HTML("", width=330, css_classes=["stats"])
         self.checks_pane = pn.pane.HTML("", width=330, css_classes=["checks"])
 
-        # curves
-        self.curve_figs, self.curve_srcs, self.spans = [], [], []
-        for title in ("position", "velocity", "acceleration", "angles"):
-            f = figure(
-                width=290,
-                height=230,
-                title=title,
-                tools="pan,wheel_zoom,reset,save",
-                x_axis_label="crank angle, deg",
-            )
-            f.x_range.start, f.x_range.end = 0, 360
-            src = ColumnDataSource(dict(x=[], y=[], y2=[]))
-            f.line(
-                "x",
-                "y",
-                source=src,
-                line_width=2,
-                color=COLORS[0],
-                legend_label="pressure" if title == "angles" else title,
-            )
-            if title == "angles":
-                f.line(
-                    "x",
-                    "y2",
-                    source=src,
-                    line_width=2,
-                    color=COLORS[1],
-                    legend_label="transmission",
-                )
-                f.legend.location = "top_left"
-                f.legend.label_text_font_size = "9px"
-            else:
-                f.legend.visible = False
-            span = Span(location=0, dimension="height", line_color="#D55E00", line_width=1.5)
-            f.add_layout(span)
-            self.curve_figs.append(f)
-            self.curve_srcs.append(src)
-            self.spans.append(span)
-
         # problem and optimization
-        self.objective = _widget(pn.widgets.TextInput, "Objective measure", width=300)
-        self.sense = _widget(pn.widgets.Select, "", options=["minimize", "maximize"], width=110)
+        self.objective = _widget(pn.widgets.TextInput, "Objective measure", width=260)
+        self.sense = _widget(
+            pn.widgets.Select, "Sense", options=["minimize", "maximize"], width=110
+        )
         self.constraints = _widget(
             pn.widgets.TextAreaInput,
             "Constraints (one a line: measure <= value unit)",
             height=110,
-            width=420,
+            min_width=280,
+            max_width=600,
+            sizing_mode="stretch_width",
         )
         self.method = _widget(
             pn.widgets.Select, "Method", options=["ipopt", "slsqp", "de"], width=100
@@ -296,19 +367,22 @@ class Explorer:
         for w in (self.objective, self.sense, self.constraints, self.method, self.starts):
             w.param.watch(self._on_problem, "value")
         self.problem_msg = pn.pane.Alert(
-            "", alert_type="danger", visible=False, width=420, css_classes=["problem-message"]
+            "", alert_type="danger", visible=False, min_width=280, max_width=600,
+            sizing_mode="stretch_width", css_classes=["problem-message"],
         )
-        self.opt_button = _widget(pn.widgets.Button, "Optimize", button_type="primary", width=110)
+        self.opt_button = _widget(pn.widgets.Button, "Optimize", button_type="primary", width=100)
         self.opt_button.on_click(self._on_optimize)
         self.cancel_button = _widget(
-            pn.widgets.Button, "Cancel", button_type="warning", width=90, disabled=True
+            pn.widgets.Button, "Cancel", button_type="warning", width=80, disabled=True
         )
         self.cancel_button.on_click(self._on_cancel)
         self.progress = pn.indicators.Progress(
-            value=0, max=1, width=200, active=False, visible=False
+            value=0, max=1, width=130, active=False, visible=False, align="center"
         )
-        self.opt_status = pn.pane.HTML("", width=340, css_classes=["opt-status"])
-        self.report = pn.pane.HTML("", width=600, css_classes=["opt-report"])
+        self.opt_status = pn.pane.HTML(
+            "", width=330, css_classes=["opt-status"], styles={"overflow-wrap": "anywhere"}
+        )
+        self.report = pn.pane.HTML("", sizing_mode="stretch_width", css_classes=["opt-report"])
 
         # chart
         self.chart_x = _widget(pn.widgets.Select, "x axis", width=140)
@@ -319,150 +393,142 @@ class Explorer:
         )
         self.chart_button = _widget(pn.widgets.Button, "Sweep", button_type="primary", width=90)
         self.chart_button.on_click(self._on_sweep)
-        self.chart_measure.param.watch(lambda e: self._draw_chart(), "value")
-        self.chart_msg = pn.pane.HTML("", width=600, css_classes=["chart-message"])
-        self.chart_fig = figure(
-            width=620,
-            height=500,
-            tools="tap,pan,wheel_zoom,reset,save",
-            title="click a cell to load that design",
+        self._watch(self.chart_measure, lambda e: self._draw_chart())
+        self.chart_msg = pn.pane.HTML(
+            "", sizing_mode="stretch_width", css_classes=["chart-message"]
         )
+        self.chart_progress = pn.indicators.Progress(
+            value=0, max=1, width=200, active=False, visible=False
+        )
+        self.chart_fig = figure(
+            height=500, min_width=300, max_width=760, sizing_mode="stretch_width",
+            tools="tap,pan,wheel_zoom,reset,save", title="click a cell to load that design",
+        )  # fmt: skip
+        self.chart_fig.toolbar.active_scroll = None
         self.chart_src = ColumnDataSource(
             dict(x=[], y=[], v=[], raw=[], ok=[], i=[], j=[], w=[], h=[])
         )
         self.mapper = LinearColorMapper(palette="Viridis256", nan_color="#eeeeee")
         cells = self.chart_fig.rect(
-            "x",
-            "y",
-            width="w",
-            height="h",
-            source=self.chart_src,
-            fill_color={"field": "v", "transform": self.mapper},
-            line_color=None,
-            fill_alpha="ok",
-            name="cells",
-            nonselection_fill_alpha="ok",
+            "x", "y", width="w", height="h", source=self.chart_src,
+            fill_color={"field": "v", "transform": self.mapper}, line_color=None,
+            fill_alpha="ok", name="cells", nonselection_fill_alpha="ok",
             selection_line_color="black",
-        )
+        )  # fmt: skip
+        self.colour_bar = ColorBar(color_mapper=self.mapper, title="", width=12)
+        self.chart_fig.add_layout(self.colour_bar, "right")
         self.chart_fig.add_tools(
             HoverTool(tooltips=[("x", "@x"), ("y", "@y"), ("value", "@raw")], renderers=[cells])
         )
         self.chart_marker = ColumnDataSource(dict(x=[], y=[]))
         self.chart_fig.scatter(
-            "x",
-            "y",
-            source=self.chart_marker,
-            marker="cross",
-            size=18,
-            line_color="red",
+            "x", "y", source=self.chart_marker, marker="cross", size=18, line_color="red",
             line_width=3,
-        )
+        )  # fmt: skip
         self.chart_fig.select_one(TapTool).mode = "replace"
         self.chart_src.selected.on_change("indices", self._on_cell)
 
         # exports
-        self.dl_toml = pn.widgets.FileDownload(
-            callback=self._export_toml,
-            filename="problem.toml",
-            label="Problem file (TOML)",
-            width=220,
+        def download(cb, filename, label, **kw):
+            return pn.widgets.FileDownload(
+                callback=cb, filename=filename, label=label, width=260, **kw
+            )
+
+        self.dl_toml = download(self._export_toml, "problem.toml", "Problem file (TOML)")
+        self.dl_design = download(self._export_design, "design.toml", "Design file (TOML)")
+        self.dl_draw = download(self._export_drawing, "mechanism.png", "Drawing (PNG)")
+        self.dl_curves = download(self._export_curves, "curves.png", "Motion curves (PNG)")
+        self.dl_chart = download(
+            self._export_chart, "chart.png", "Chart (PNG): sweep a chart first", disabled=True
         )
-        self.dl_draw = pn.widgets.FileDownload(
-            callback=self._export_drawing,
-            filename="mechanism.png",
-            label="Drawing (PNG)",
-            width=220,
+        self.export_msg = pn.pane.HTML(
+            "", sizing_mode="stretch_width", css_classes=["export-message"]
         )
-        self.dl_curves = pn.widgets.FileDownload(
-            callback=self._export_curves,
-            filename="curves.png",
-            label="Motion curves (PNG)",
-            width=220,
+
+    def _dim_row(self, i):
+        """Row ``i`` of the dimension widgets (made once; a mechanism's dimensions are shown
+        by updating rows in place, which the browser always follows)."""
+        slider = _widget(
+            pn.widgets.FloatSlider, "dimension", start=0.0, end=1.0, value=0.5, step=0.01,
+            show_value=False, width=320, margin=(0, 10),
+        )  # fmt: skip
+        field = _widget(pn.widgets.TextInput, "dimension", value="", width=120, margin=(0, 10))
+        self._watch(slider, lambda e: self._on_slider(self._row_dims[i], e.new))
+        self._watch(field, lambda e: self._on_field(self._row_dims[i], e.new))
+        vary = _widget(pn.widgets.Checkbox, "vary", value=False, width=90, align="end")
+        lo_in = _widget(pn.widgets.TextInput, "lower bound", value="", width=100)
+        hi_in = _widget(pn.widgets.TextInput, "upper bound", value="", width=100)
+        for w in (vary, lo_in, hi_in):
+            w.param.watch(lambda e: self._on_bounds(self._row_dims[i]), "value")
+        msg = pn.pane.Alert(
+            "", alert_type="danger", visible=False, width=320, margin=(0, 5),
+        )  # fmt: skip
+        head = pn.Column(field, slider, margin=0)
+        # the css classes that name a row's parts go on plain containers: changing them on a
+        # pane or a widget makes Panel replace its model, which the browser can miss
+        boxes = {k: pn.Column(w, margin=0) for k, w in (("lo", lo_in), ("hi", hi_in), ("msg", msg))}
+        layout = pn.Column(
+            head,
+            pn.Row(vary, boxes["lo"], boxes["hi"], margin=(-4, 5, 0, 5)),
+            boxes["msg"],
+            margin=(0, 0, 6, 0),
+            styles={"border-bottom": "1px solid #ddd"},
+            visible=False,
         )
-        self.dl_chart = pn.widgets.FileDownload(
-            callback=self._export_chart, filename="chart.png", label="Chart (PNG)", width=220
-        )
-        self.export_msg = pn.pane.HTML("", width=600, css_classes=["export-message"])
+        return dict(
+            slider=slider, field=field, vary=vary, lo=lo_in, hi=hi_in, msg=msg, head=head,
+            layout=layout, boxes=boxes,
+        )  # fmt: skip
 
     def _rebuild_dims(self):
         """Sliders, number fields, bounds and messages for the kind's dimensions."""
         st = self.state
         self._building = True
         try:
-            self.dim_widgets = {}
-            rows = []
-            for d in st.kind.dims:
+            dims = st.kind.dims
+            while len(self._rows) < len(dims):
+                self._rows.append(self._dim_row(len(self._rows)))
+                self.dims_col.append(self._rows[-1]["layout"])
+            self.dim_widgets, self.dim_fields = {}, {}
+            self._field_msgs = {}
+            self._row_dims = [d.name for d in dims] + [None] * (len(self._rows) - len(dims))
+            for row_, d in zip(self._rows, dims):
                 unit = st.unit_label(d.unit)
                 label = f"{d.name}, {unit}" if unit else d.name
                 lo, hi = _r(st.shown(d.lo, d.unit)), _r(st.shown(d.hi, d.unit))
                 value = st.shown(st.values[d.name], d.unit)
                 lo, hi = min(lo, value), max(hi, value)
-                step = _nice_step((hi - lo) / 400)
-                slider = _widget(
-                    pn.widgets.EditableFloatSlider,
-                    label,
-                    start=lo,
-                    end=hi,
-                    value=value,
-                    step=step,
-                    width=330,
-                    format="0[.]0000",
-                    css_classes=[f"dim-{d.name}"],
+                slider, field = row_["slider"], row_["field"]
+                _set_label(slider, f"{label} ({d.label})" if d.label else label)
+                slider.param.update(
+                    start=lo, end=hi, value=value, step=_nice_step((hi - lo) / 400)
                 )
-                slider.param.watch(lambda e, n=d.name: self._on_dim(n, e.new), "value")
+                _set_label(field, label)
+                field.value = _text(value)
                 vlo, vhi = st.vary.get(d.name, (d.lo, d.hi))
-                vary = _widget(
-                    pn.widgets.Checkbox,
-                    "vary",
-                    value=d.name in st.vary,
-                    width=60,
-                    disabled=not d.varies,
-                )
-                lo_in = _widget(
-                    pn.widgets.FloatInput,
-                    "",
-                    value=_r(st.shown(vlo, d.unit)),
-                    width=110,
-                    css_classes=[f"lo-{d.name}"],
-                )
-                hi_in = _widget(
-                    pn.widgets.FloatInput,
-                    "",
-                    value=_r(st.shown(vhi, d.unit)),
-                    width=110,
-                    css_classes=[f"hi-{d.name}"],
-                )
-                for w in (vary, lo_in, hi_in):
-                    w.param.watch(lambda e, n=d.name: self._on_bounds(n), "value")
-                msg = pn.pane.Alert(
-                    "",
-                    alert_type="danger",
-                    visible=False,
-                    width=330,
-                    css_classes=[f"msg-{d.name}"],
-                    margin=(0, 5),
-                )
+                vary, lo_in, hi_in, msg = row_["vary"], row_["lo"], row_["hi"], row_["msg"]
+                _set_label(vary, f"vary {d.name}")
+                vary.param.update(value=d.name in st.vary, disabled=not d.varies)
+                _set_label(lo_in, f"{d.name} lower bound")
+                lo_in.value = _text(st.shown(vlo, d.unit))
+                _set_label(hi_in, f"{d.name} upper bound")
+                hi_in.value = _text(st.shown(vhi, d.unit))
+                msg.param.update(object="", visible=False)
+                for key in ("lo", "hi", "msg"):
+                    row_["boxes"][key].css_classes = [f"{key}-{d.name}"]
+                row_["head"].css_classes = [f"dim-{d.name}"]
+                row_["layout"].visible = True
                 self.dim_widgets[d.name] = (slider, vary, lo_in, hi_in, msg)
-                rows.append(
-                    pn.Column(
-                        slider,
-                        pn.Row(
-                            vary,
-                            pn.pane.HTML("bounds", margin=(8, 2)),
-                            lo_in,
-                            hi_in,
-                            margin=(-8, 5, 0, 5),
-                        ),
-                        msg,
-                        margin=(0, 0, 6, 0),
-                        styles={"border-bottom": "1px solid #ddd"},
-                    )
-                )
-                slider.description = d.label
-            self.dims_col.objects = rows
-            self.speed_input.value = (
-                0.0 if st.speed is None else round(st.speed * 60 / (2 * math.pi), 6)
-            )
+                self.dim_fields[d.name] = field
+            for row_ in self._rows[len(dims):]:
+                row_["layout"].visible = False
+                row_["head"].css_classes = []
+                for key in ("lo", "hi", "msg"):
+                    row_["boxes"][key].css_classes = []
+            label, speed = st.speed_field()
+            _set_label(self.speed_input, label)
+            self.speed_input.value = _text(speed)
+            self.speed_msg.visible = False
             self.objective.value = st.objective
             self.sense.value = st.sense
             self.constraints.value = "\n".join(st.constraints)
@@ -474,12 +540,18 @@ class Explorer:
             self.chart_x.value = names[0]
             self.chart_y.value = names[1]
             self._chart = None
+            self.dl_chart.disabled = True
+            self.dl_chart.label = "Chart (PNG): sweep a chart first"
             self.chart_src.data = dict(x=[], y=[], v=[], raw=[], ok=[], i=[], j=[], w=[], h=[])
+            self.chart_marker.data = dict(x=[], y=[])
+            self.chart_msg.object = ""
+            self._fit_next = True
         finally:
             self._building = False
 
     def _sync_values(self):
-        """Move the sliders to the state's values (after a solve or a chart click)."""
+        """Move the sliders and fields to the state's values (after a solve or a chart
+        click)."""
         st = self.state
         self._building = True
         try:
@@ -489,13 +561,44 @@ class Explorer:
                 slider.param.update(
                     start=min(slider.start, value), end=max(slider.end, value), value=value
                 )
+                self.dim_fields[d.name].value = _text(value)
+                self._field_msgs.pop(d.name, None)
         finally:
             self._building = False
 
     # ------------------------------------------------------------------ events
+    def _later(self, fn, *args):
+        """Run ``fn(*args)`` where it may change the Bokeh models of the page: in a served
+        page on the document's next tick, with its lock held (a widget's callback may run
+        without it, and a Bokeh model changed there raises in the server); at once
+        elsewhere (tests drive the page object from Python)."""
+        doc = pn.state.curdoc
+        if doc is None or getattr(doc, "session_context", None) is None:
+            return fn(*args)
+        doc.add_next_tick_callback(lambda: fn(*args))
+        return None
+
+    def _watch(self, widget, fn):
+        """Call ``fn(event)`` when ``widget``'s value changes, except while the page itself
+        sets the widgets (``_building``, checked when the change happens)."""
+
+        def changed(event):
+            if not self._building:
+                self._later(fn, event)
+
+        widget.param.watch(changed, "value")
+
     def _on_kind(self, event):
-        if self._busy("change the mechanism"):
+        if self._building:
             return
+        if self._busy("change the mechanism"):
+            self._building = True
+            try:
+                self.kind_select.value = self._kind_value  # the menu keeps what is shown
+            finally:
+                self._building = False
+            return
+        self._kind_value = event.new
         if event.new == "__file__":
             self.state = self.loaded["__file__"]
             self.state.units = self.units_select.value
@@ -503,25 +606,57 @@ class Explorer:
             self.state = State.default(event.new, self.units_select.value)
         self.opt_status.object = ""
         self.report.object = ""
+        self.last_result = None
         self._rebuild_dims()
         self._refresh(None)
 
-    def _on_load(self, event=None):
-        path = self.file_input.value.strip()
-        try:
-            st = load_file(path, self.units_select.value)
-        except (OSError, ValueError) as exc:
-            self.file_msg.object = str(exc)
-            self.file_msg.visible = True
-            return
+    def _load_state(self, st: State, source: str):
+        """Show a state read from a file (the menu names it by the file)."""
         self.file_msg.visible = False
         self.loaded["__file__"] = st
         options = {k: v for k, v in self.kind_select.options.items() if v != "__file__"}
-        self.kind_select.options = {st.kind.title: "__file__", **options}
-        if self.kind_select.value == "__file__":
-            self._on_kind(type("E", (), {"new": "__file__"}))
-        else:
+        label = _file_label(st, source)
+        self._building = True
+        try:
+            self.kind_select.options = {label: "__file__", **options}
             self.kind_select.value = "__file__"
+        finally:
+            self._building = False
+        self._on_kind(_Event("__file__"))
+
+    def _file_error(self, exc):
+        self.file_msg.object = str(exc)
+        self.file_msg.visible = True
+
+    def _on_load(self, event=None):
+        if self._busy("load a file"):
+            return
+        path = (self.file_input.value or "").strip()
+        if not path:
+            self._file_error("type a file's path first (or open one with the button above)")
+            return
+        try:
+            st = load_file(path, self.units_select.value)
+        except (OSError, ValueError) as exc:
+            self._file_error(exc)
+            return
+        self._load_state(st, Path(path).name)
+
+    def _on_upload(self, event):
+        if event.new is None:
+            return
+        if self._busy("load a file"):
+            return
+        name = Path(self.upload.filename or "uploaded.toml").name
+        with tempfile.TemporaryDirectory(prefix="mechsynth-explore-") as tmp:
+            path = Path(tmp) / name
+            path.write_bytes(event.new)
+            try:
+                st = load_file(path, self.units_select.value)
+            except (OSError, ValueError) as exc:
+                self._file_error(f"{name}: {exc}".replace(f"{path}", name))
+                return
+        self._load_state(st, name)
 
     def _on_units(self, event):
         self.state.units = event.new
@@ -531,16 +666,55 @@ class Explorer:
     def _on_speed(self, event):
         if self._building:
             return
-        v = event.new
-        self.state.speed = None if not v else float(v) * 2 * math.pi / 60
+        try:
+            self.state.set_speed(event.new)
+        except MechanismError as exc:
+            self.speed_msg.object = str(exc)
+            self.speed_msg.visible = True
+            return
+        self.speed_msg.visible = False
         self._refresh(None)
 
-    def _on_dim(self, name, value):
+    def _on_slider(self, name, value):
+        if self._building:
+            return
+        self._building = True
+        try:
+            self.dim_fields[name].value = _text(value)
+        finally:
+            self._building = False
+        self._field_msgs.pop(name, None)
+        self._set_dim(name, value)
+
+    def _on_field(self, name, text):
         if self._building:
             return
         d = self.state.kind.dim(name)
-        self.state.values[name] = self.state.si(value, d.unit) if value is not None else np.nan
+        unit = self.state.unit_label(d.unit)
+        try:
+            value = parse_number(text, f"{name}{', ' + unit if unit else ''}")
+        except MechanismError as exc:
+            self._field_msgs[name] = str(exc)
+            self._show_bound_messages()
+            return
+        self._field_msgs.pop(name, None)
+        slider = self.dim_widgets[name][0]
+        self._building = True
+        try:
+            slider.param.update(
+                start=min(slider.start, value), end=max(slider.end, value), value=value
+            )
+        finally:
+            self._building = False
+        self._set_dim(name, value)
+
+    def _set_dim(self, name, value):
+        d = self.state.kind.dim(name)
+        self.state.values[name] = self.state.si(value, d.unit)
         self._refresh(name)
+
+    # kept for callers of the previous page (tests drive sliders by value)
+    _on_dim = _set_dim
 
     def _on_bounds(self, name):
         if self._building:
@@ -549,20 +723,34 @@ class Explorer:
         d = st.kind.dim(name)
         _, vary, lo_in, hi_in, msg = self.dim_widgets[name]
         if vary.value:
-            lo = np.nan if lo_in.value is None else st.si(lo_in.value, d.unit)
-            hi = np.nan if hi_in.value is None else st.si(hi_in.value, d.unit)
+            unit = st.unit_label(d.unit)
+            try:
+                lo = st.si(parse_number(lo_in.value, f"{name}: lower bound, {unit}"), d.unit)
+                hi = st.si(parse_number(hi_in.value, f"{name}: upper bound, {unit}"), d.unit)
+            except MechanismError as exc:
+                st.vary[name] = (np.nan, np.nan)
+                self._field_msgs[f"bound:{name}"] = str(exc)
+                self._show_bound_messages()
+                return
+            self._field_msgs.pop(f"bound:{name}", None)
             st.vary[name] = (lo, hi)
         else:
+            self._field_msgs.pop(f"bound:{name}", None)
             st.vary.pop(name, None)
         self._show_bound_messages()
 
     def _show_bound_messages(self) -> bool:
         bad = self.state.bound_messages()
         for n, (_, _, _, _, msg) in self.dim_widgets.items():
-            text = bad.get(n) or self._design_msgs.get(n, "")
+            text = (
+                self._field_msgs.get(n)
+                or self._field_msgs.get(f"bound:{n}")
+                or bad.get(n)
+                or self._design_msgs.get(n, "")
+            )
             msg.object = text
             msg.visible = bool(text)
-        return not bad
+        return not bad and not any(k.startswith("bound:") for k in self._field_msgs)
 
     def _on_problem(self, event):
         if self._building:
@@ -575,8 +763,8 @@ class Explorer:
         st.starts = int(self.starts.value or 1)
         self._show_checks()
 
-    def _on_frame(self, event):
-        self._draw_frame(int(event.new))
+    def _on_frame(self, k):
+        self._draw_frame(int(k))
 
     # ------------------------------------------------------------------ refresh
     def _refresh(self, changed):
@@ -588,182 +776,157 @@ class Explorer:
             where = changed if changed in self.dim_widgets else None
             if where is None:
                 self.design_msg.object = f"The design cannot be built: {message}"
-                self.design_msg.visible = True
             else:
                 self._design_msgs[where] = message
                 self.design_msg.object = f"{where}: the design cannot be built (see the field)"
-                self.design_msg.visible = True
+            self.design_msg.visible = True
             self._show_bound_messages()
             self.stats.object = (
                 "<div id='stats' style='color:#b00'>invalid design: "
                 "showing the last valid one</div>"
             )
             return
+        try:
+            cols, meta = frames(self.state, design, trace=self.state.kind.trace)
+            self.curve_data = curves(self.state, design)
+        except (MechanismError, ValueError) as exc:
+            self.design_msg.object = f"The design cannot be drawn: {exc}"
+            self.design_msg.visible = True
+            return
         self.design_msg.visible = False
         self._show_bound_messages()
         self.design = design
-        try:
-            self.sketch = design.sketch(design.turn_sign * _frames_phi())
-            self.curve_data = curves(self.state, design)
-        except (MechanismError, ValueError) as exc:  # pragma: no cover - checked above
-            self.design_msg.object = str(exc)
-            self.design_msg.visible = True
-            return
-        self._draw_static()
-        self._draw_frame(int(self.player.value))
+        self.sketch = None
+        self.frame_cols, self.frame_meta = cols, meta
+        self._send_frames()
         self._draw_curves()
         self._show_stats()
         self._show_checks()
 
-    def _length(self, v):
-        return np.asarray(v, dtype=float) / self.state.display.factor("m")
-
-    def _draw_static(self):
-        sk, st = self.sketch, self.state
-        x0, x1, y0, y1 = (float(self._length(v)) for v in sk.extent())
-        # equal scales on both axes: the ranges in the proportions of the plot's frame
-        pad = 0.1 * max(x1 - x0, y1 - y0, 1e-9)
-        w_px, h_px = FRAME
-        scale = max((x1 - x0 + 2 * pad) / w_px, (y1 - y0 + 2 * pad) / h_px)
-        cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
-        self.fig.x_range.start, self.fig.x_range.end = cx - scale * w_px / 2, cx + scale * w_px / 2
-        self.fig.y_range.start, self.fig.y_range.end = cy - scale * h_px / 2, cy + scale * h_px / 2
+    def _send_frames(self):
+        """The cycle to the browser (which plays it), the current frame drawn here too."""
+        st, meta = self.state, self.frame_meta
         unit = st.unit_label("m")
         self.fig.xaxis.axis_label = f"x, {unit}"
         self.fig.yaxis.axis_label = f"y, {unit}"
-        self.fig.title.text = sk.name or st.kind.title
-        trace = [p for p in st.kind.trace if p in sk.points]
+        self.fig.title.text = getattr(self.design, "name", "") or st.kind.title
+        if self._fit_next:  # a new mechanism or new units: the view fits it (here and there)
+            x0, x1, y0, y1 = fit_ranges(meta["extent"], 600, 380)
+            self.fig.x_range.update(start=x0, end=x1, reset_start=x0, reset_end=x1)
+            self.fig.y_range.update(start=y0, end=y1, reset_start=y0, reset_end=y1)
+        cols = self.frame_cols
+        self.src_ground.data = dict(
+            x=[cols[f"x:{g}"][0] for g in meta["ground"]],
+            y=[cols[f"y:{g}"][0] for g in meta["ground"]],
+            name=list(meta["ground"]),
+        )
+        points = list(meta["points"])
+        self._building = True
+        try:
+            if list(self.trace_select.options) != points:
+                self.trace_select.options = points
+                self.trace_select.value = [p for p in meta["trace"] if p in points]
+        finally:
+            self._building = False
+        self._draw_paths()
+        self._draw_frame(int(self.frame.value))
+        self.src_frames.data = cols
+        self.src_meta.data = dict(json=[json.dumps(meta)], force=[bool(self._fit_next)])
+        self._fit_next = False
+
+    def _draw_paths(self):
+        cols = self.frame_cols
+        if cols is None:
+            return
+        trace = [p for p in self.trace_select.value if f"x:{p}" in cols]
         self.src_paths.data = dict(
-            xs=[self._length(sk.points[p][0]).tolist() for p in trace],
-            ys=[self._length(sk.points[p][1]).tolist() for p in trace],
+            xs=[cols[f"x:{p}"] + cols[f"x:{p}"][:1] for p in trace],
+            ys=[cols[f"y:{p}"] + cols[f"y:{p}"][:1] for p in trace],
             color=[COLORS[(i + 2) % len(COLORS)] for i in range(len(trace))],
         )
-        self.src_ground.data = dict(
-            x=[float(self._length(sk.points[g][0][0])) for g in sk.ground],
-            y=[float(self._length(sk.points[g][1][0])) for g in sk.ground],
-            name=list(sk.ground),
-        )
-        fixed = [o for o in sk.outlines if np.ndim(o.x) == 1]
-        self._fixed_outlines = (
-            [self._length(o.x).tolist() for o in fixed],
-            [self._length(o.y).tolist() for o in fixed],
-        )
-        # fixed guides over the block's travel
-        xs, ys = [], []
-        size = max(x1 - x0, y1 - y0, 1e-9)
-        for s in sk.sliders:
-            if s.through is not None:
-                continue
-            px, py = self._length(sk.points[s.point][0]), self._length(sk.points[s.point][1])
-            a = np.asarray(s.angle, dtype=float)
-            a0 = float(a) if a.ndim == 0 else float(a.ravel()[0])
-            u = np.array([math.cos(a0), math.sin(a0)])
-            t = px * u[0] + py * u[1]
-            ext = 0.08 * size
-            t0, t1 = float(t.min()) - ext, float(t.max()) + ext
-            bx, by = float(px[0] - t[0] * u[0]), float(py[0] - t[0] * u[1])
-            xs.append([bx + t0 * u[0], bx + t1 * u[0]])
-            ys.append([by + t0 * u[1], by + t1 * u[1]])
-        self._guides = (xs, ys)
-        self._block = 0.06 * size
 
     def _draw_frame(self, k):
-        sk = self.sketch
-        if sk is None:
+        if self.frame_cols is None:
             return
-        k = k % sk.frames
-        pts = {
-            n: (float(self._length(x[k])), float(self._length(y[k])))
-            for n, (x, y) in sk.points.items()
-        }
-        bars_x, bars_y, bars_c, pl_x, pl_y, pl_c = [], [], [], [], [], []
-        for i, b in enumerate(sk.bars):
-            xs = [pts[p][0] for p in b.points]
-            ys = [pts[p][1] for p in b.points]
-            c = COLORS[i % len(COLORS)]
-            if len(b.points) >= 3:
-                pl_x.append(xs)
-                pl_y.append(ys)
-                pl_c.append(c)
-            else:
-                bars_x.append(xs)
-                bars_y.append(ys)
-                bars_c.append(c)
-        self.src_bars.data = dict(xs=bars_x, ys=bars_y, color=bars_c)
-        self.src_plates.data = dict(xs=pl_x, ys=pl_y, color=pl_c)
-        joints = (
-            sk.joints
-            if sk.joints is not None
-            else tuple(dict.fromkeys(p for b in sk.bars for p in b.points))
-        )
-        moving = [p for p in joints if p not in sk.ground]
-        self.src_joints.data = dict(
-            x=[pts[p][0] for p in moving], y=[pts[p][1] for p in moving], name=list(moving)
-        )
-        bx, by, ba = [], [], []
-        gx, gy = list(self._guides[0]), list(self._guides[1])
-        for s in sk.sliders:
-            a = sk.slider_angle(s, k)
-            bx.append(pts[s.point][0])
-            by.append(pts[s.point][1])
-            ba.append(a)
-            if s.through is not None:
-                ux, uy = math.cos(a), math.sin(a)
-                tx, ty = pts[s.through]
-                r = 2.5 * self._block
-                gx.append([tx - r * ux, tx + r * ux])
-                gy.append([ty - r * uy, ty + r * uy])
-        w = self._block
-        self.src_blocks.data = dict(x=bx, y=by, angle=ba, w=[1.6 * w] * len(bx), h=[w] * len(bx))
-        self.src_guides.data = dict(xs=gx, ys=gy)
-        ox, oy = list(self._fixed_outlines[0]), list(self._fixed_outlines[1])
-        for o in sk.outlines:
-            if np.ndim(o.x) == 2:
-                x, y = sk.outline_xy(o, k)
-                ox.append(self._length(x).tolist())
-                oy.append(self._length(y).tolist())
-        self.src_outlines.data = dict(xs=ox, ys=oy)
-        angle = 360.0 * k / FRAMES
+        g = frame_glyphs(self.frame_cols, self.frame_meta, k)
+        self.src_bars.data = g["bars"]
+        self.src_plates.data = g["plates"]
+        self.src_joints.data = g["joints"]
+        self.src_blocks.data = g["blocks"]
+        self.src_guides.data = g["guides"]
+        self.src_outlines.data = g["outlines"]
+        meta = self.frame_meta
+        inp = self.frame_cols["input"][int(k) % meta["n"]]
         for span in self.spans:
-            span.location = angle
-        _set_label(self.player, f"Crank angle {angle:.0f} deg")
+            span.location = 360.0 * (int(k) % meta["n"]) / meta["n"] if meta["periodic"] else inp
+        digits = 0 if meta["periodic"] else 1
+        text = f"{meta['input_label']} {inp:.{digits}f} {meta['input_unit']}"
+        self.input_label.text = f"<span id='input-shown'>{text}</span>"
+        self.overlay.text = text
+
+    def _input_phi(self, k: int) -> float:
+        """The design's input at frame ``k`` (rad or m)."""
+        n = self.frame_meta["n"]
+        return float(np.asarray(self.design.turn(n))[int(k) % n])
 
     def _draw_curves(self):
         c, st = self.curve_data, self.state
         lin = c["unit"] == "m"
         analog = c["speed"] is None
+        slider_in = c.get("input_unit") == "m"
+        per = "m" if slider_in else "rad"
         pos_u = "m" if lin else "rad"
-        vel_u = ("m/rad" if analog else "m/s") if lin else ("1" if analog else "rad/s")
-        acc_u = ("m/rad^2" if analog else "m/s^2") if lin else ("1" if analog else "rad/s^2")
-        labels = []
-        for key, unit in (("position", pos_u), ("velocity", vel_u), ("acceleration", acc_u)):
+        if lin:
+            vel_u = f"m/{per}" if analog else "m/s"
+            acc_u = f"m/{per}^2" if analog else "m/s^2"
+        else:
+            vel_u = (f"rad/{per}" if slider_in else "1") if analog else "rad/s"
+            acc_u = (f"rad/{per}^2" if slider_in else "1") if analog else "rad/s^2"
+        if slider_in:
+            x = (np.asarray(c["angle"], float) / st.display.factor("m")).tolist()
+            xlabel = f"input displacement, {st.unit_label('m')}"
+        else:
+            x = np.asarray(c["angle"], float).tolist()
+            xlabel = "crank angle, deg"
+        for key, unit, cf, src in zip(
+            ("position", "velocity", "acceleration"),
+            (pos_u, vel_u, acc_u),
+            self.curve_figs,
+            self.curve_srcs,
+        ):
             y = np.asarray(c[key], dtype=float)
-            if lin:
-                y = y / st.display.factor(unit)
-                shown = st.display.unit(unit)
-            elif unit == "rad":
+            if unit == "rad":
                 y, shown = np.degrees(y), "deg"
+            elif unit in ("1",):
+                shown = "rad/rad"
             else:
-                shown = unit if unit != "1" else "rad/rad"
-            labels.append((key, y, shown))
-        for (key, y, shown), f, src in zip(labels, self.curve_figs, self.curve_srcs):
-            src.data = dict(x=c["angle"].tolist(), y=y.tolist(), y2=[0.0] * y.size)
-            f.title.text = f"{c['output']} {key}"
-            f.yaxis.axis_label = f"{key}, {shown}"
-        p = c["pressure"]
-        t = c["transmission"]
-        n = c["angle"].size
+                try:
+                    y = y / st.display.factor(unit)
+                    shown = st.display.unit(unit)
+                except (KeyError, ValueError, MechanismError):
+                    shown = unit
+            src.data = dict(x=x, y=y.tolist(), y2=[0.0] * y.size)
+            cf.title.text = f"{c['output']} {key}"
+            cf.yaxis.axis_label = f"{key}, {shown}"
+        p, t = c["pressure"], c["transmission"]
+        n = len(x)
         self.curve_srcs[3].data = dict(
-            x=c["angle"].tolist(),
+            x=x,
             y=(np.degrees(p).tolist() if p is not None else [np.nan] * n),
             y2=(np.degrees(t).tolist() if t is not None else [np.nan] * n),
         )
         self.curve_figs[3].yaxis.axis_label = "pressure, transmission angle, deg"
+        for cf in self.curve_figs:
+            cf.xaxis.axis_label = xlabel
+            cf.x_range.start, cf.x_range.end = (x[0], x[-1]) if slider_in else (0, 360)
 
     def _fmt(self, value, unit):
-        v, shown = self.state.display.convert(float(value), unit)
         if unit == "rad":
-            v, shown = math.degrees(value), "deg"
+            return f"{math.degrees(value):.6g} deg"
+        try:
+            v, shown = self.state.display.convert(float(value), unit)
+        except (KeyError, ValueError, MechanismError):
+            v, shown = float(value), unit
         return f"{v:.6g} {shown}".rstrip()
 
     def _show_stats(self):
@@ -808,7 +971,10 @@ class Explorer:
     # ------------------------------------------------------------------ optimize
     def _busy(self, what) -> bool:
         if self._proc is not None:
-            self.opt_status.object = f"<span style='color:#b00'>cancel the solve to {what}</span>"
+            self.opt_status.object = (
+                f"<span id='opt-state' style='color:#b00'>solving: cancel the solve to "
+                f"{what}</span>"
+            )
             return True
         return False
 
@@ -816,10 +982,10 @@ class Explorer:
         if self._proc is not None:
             return
         self._on_problem(None)
-        if not self._show_bound_messages():
+        if self._field_msgs or not self._show_bound_messages():
             self.opt_status.object = (
-                "<span id='opt-state' style='color:#b00'>fix the bounds "
-                "shown next to the fields</span>"
+                "<span id='opt-state' style='color:#b00'>fix the fields "
+                "shown with a message first</span>"
             )
             return
         try:
@@ -845,7 +1011,6 @@ class Explorer:
         if self._proc is None:
             return
         self._proc.terminate()
-        self._proc.join(timeout=5)
         self._end_solve()
         self.opt_status.object = "<span id='opt-state'>cancelled</span>"
 
@@ -856,7 +1021,17 @@ class Explorer:
             self._end_solve()
 
     def _end_solve(self):
-        self._proc = None
+        proc, self._proc = self._proc, None
+        if proc is not None:  # reap the worker: no zombie process stays behind
+            proc.join(timeout=5)
+            if proc.is_alive():
+                proc.kill()
+                proc.join(timeout=5)
+            if hasattr(proc, "close") and not proc.is_alive():
+                proc.close()
+            self._reaped.append(proc)
+        if self._queue is not None:
+            self._queue.close()
         self._queue = None
         self.opt_button.disabled = False
         self.cancel_button.disabled = True
@@ -867,7 +1042,7 @@ class Explorer:
         """Collect the worker's messages and the chart sweep (periodic callback)."""
         if self._queue is not None:
             elapsed = time.perf_counter() - self._t0
-            while True:
+            while self._queue is not None:
                 try:
                     msg = self._queue.get_nowait()
                 except (queue.Empty, OSError, ValueError):
@@ -883,13 +1058,12 @@ class Explorer:
                 elif msg[0] == "done":
                     self._end_solve()
                     self._apply_result(msg[1])
-                    break
                 elif msg[0] == "error":
                     self._end_solve()
                     self.opt_status.object = (
-                        f"<span id='opt-state' style='color:#b00'>solve failed: {msg[1]}</span>"
+                        f"<span id='opt-state' style='color:#b00'>solve failed: "
+                        f"{_escape(msg[1])}</span>"
                     )
-                    break
             if self._proc is not None:  # the elapsed time moves even between messages
                 self.opt_status.object = (
                     f"<span id='opt-state'>solving: {self._stage} ({elapsed:.0f} s)</span>"
@@ -905,15 +1079,15 @@ class Explorer:
                     "<span id='opt-state' style='color:#b00'>the solver "
                     "process ended without a result</span>"
                 )
-        if self._sweep is not None and self._sweep.done():
-            fut, self._sweep = self._sweep, None
-            self.chart_button.disabled = False
-            try:
-                self._chart = fut.result()
-            except (ValueError, MechanismError) as exc:
-                self.chart_msg.object = f"<span style='color:#b00'>{exc}</span>"
-                return
-            self._draw_chart()
+        self._poll_sweep()
+
+    def _objective_unit(self) -> str:
+        from ..synthesis.problem_file import parse_measure
+
+        try:
+            return parse_measure(self.state.objective).bind(type(self.design)).unit
+        except (ValueError, TypeError, MechanismError, AttributeError):
+            return ""
 
     def _apply_result(self, res):
         st = self.state
@@ -921,16 +1095,20 @@ class Explorer:
         status = res.get("status")
         colour = "#1a7f37" if ok else "#cf222e"
         value = res.get("value")
-        text = f"{status}: {res.get('objective')} = {value:.6g}" if value is not None else status
-        self.opt_status.object = (
-            f"<span id='opt-state' style='color:{colour}'>{text} "
-            f"({res.get('solve_time', 0):.1f} s)</span>"
-        )
-        self.report.object = "<pre id='opt-report'>" + _escape(res.get("report", "")) + "</pre>"
         if res.get("variables"):
             st.values = st.values_of(res["variables"])
             self._sync_values()
             self._refresh(None)
+        if value is not None:
+            shown = self._fmt(value, self._objective_unit())
+            text = f"{status}: {res.get('objective')} = {shown}"
+        else:
+            text = str(status)
+        self.opt_status.object = (
+            f"<span id='opt-state' style='color:{colour}'>{_escape(text)} "
+            f"({res.get('solve_time', 0):.1f} s)</span>"
+        )
+        self.report.object = "<pre id='opt-report'>" + _escape(res.get("report", "")) + "</pre>"
         self.last_result = res
 
     # ------------------------------------------------------------------ chart
@@ -941,31 +1119,79 @@ class Explorer:
         st = self.state
         try:
             if x == y:
-                raise ValueError("choose two different dimensions for the chart")
+                raise MechanismError("choose two different dimensions for the chart")
             _ = [st.kind.dim(x), st.kind.dim(y)]
         except ValueError as exc:
-            self.chart_msg.object = f"<span style='color:#b00'>{exc}</span>"
+            self.chart_msg.object = f"<span style='color:#b00'>{_escape(exc)}</span>"
             return
-        snapshot = State(
-            st.kind,
-            dict(st.values),
-            dict(st.vary),
-            st.objective,
-            st.sense,
-            list(st.constraints),
-            st.speed,
-            st.units,
-        )
+        snapshot = _snapshot(st)
         self.chart_button.disabled = True
-        self.chart_msg.object = "sweeping..."
         n = int(self.chart_n.value)
         self._chart_state = snapshot
-        self._sweep = _POOL.submit(sweep_chart, snapshot, x, y, n)
+        progress = self._sweep_progress = [None]
+        warm_up = warm(snapshot)
+
+        def run():
+            from .. import progress as prog
+
+            me = threading.get_ident()
+            if not warm_up.done():
+                progress[0] = ("warming", 0, 0)
+                warm_up.result()
+
+            def seen(desc, k, total):
+                if threading.get_ident() == me:
+                    progress[0] = ("sweeping", k, total)
+
+            with prog.observe(seen):
+                return sweep_chart(snapshot, x, y, n, angles=CHART_ANGLES)
+
+        self._sweep_t0 = time.perf_counter()
+        self._sweep = _POOL.submit(run)
+        self.chart_progress.visible = True
+        self.chart_progress.active = True
+        self.chart_progress.value = -1
+        self._show_sweep_progress()
+
+    def _show_sweep_progress(self):
+        p = self._sweep_progress[0]
+        t = time.perf_counter() - self._sweep_t0
+        if p is not None and p[0] == "warming":
+            text = (
+                f"preparing the compiled kernels of this mechanism (the first chart only; "
+                f"later sweeps take well under a second) ... {t:.0f} s"
+            )
+        elif p is not None and p[2]:
+            self.chart_progress.max = int(p[2])
+            self.chart_progress.value = min(int(p[1]), int(p[2]))
+            text = f"sweeping: {p[1]}/{p[2]} parts of the grid ({t:.1f} s)"
+        else:
+            text = f"sweeping {self.chart_n.value} x {self.chart_n.value} designs ({t:.1f} s)"
+        self.chart_msg.object = f"<span id='chart-progress'>{text}</span>"
+
+    def _poll_sweep(self):
+        if self._sweep is None:
+            return
+        if not self._sweep.done():
+            self._show_sweep_progress()
+            return
+        fut, self._sweep = self._sweep, None
+        self.chart_button.disabled = False
+        self.chart_progress.active = False
+        self.chart_progress.visible = False
+        try:
+            self._chart = fut.result()
+        except (ValueError, MechanismError) as exc:
+            self.chart_msg.object = f"<span style='color:#b00'>{_escape(exc)}</span>"
+            return
+        self._draw_chart()
 
     def _draw_chart(self):
         ch = self._chart
         if ch is None:
             return
+        from ..synthesis.problem_file import parse_constraint
+
         st = self._chart_state
         labels = list(ch.values)
         if self.chart_measure.options != labels:
@@ -985,31 +1211,32 @@ class Explorer:
         ok = ch.satisfied(None)
         good = np.ones_like(ok)
         for text in st.constraints:
-            from ..synthesis.problem_file import parse_constraint
-
             c = parse_constraint(text)
             if c.measure.name in ch.values and c.op in ("<=", ">="):
                 good &= ch.satisfied({c.measure.name: (c.op, c.bound)})
         alpha = np.where(ok, np.where(good, 1.0, 0.45), 0.0)
-        wx = (xv[1] - xv[0]) / st.display.factor(dx.unit or "1") if xv.size > 1 else 1
-        wy = (yv[1] - yv[0]) / st.display.factor(dy.unit or "1") if yv.size > 1 else 1
+        fx, fy = st.display.factor(dx.unit or "1"), st.display.factor(dy.unit or "1")
+        wx = (xv[1] - xv[0]) / fx if xv.size > 1 else 1
+        wy = (yv[1] - yv[0]) / fy if yv.size > 1 else 1
         raw = data.copy()
         scale_note = ""
         finite = data[np.isfinite(data) & ok]
         if finite.size:
             lo, hi = float(finite.min()), float(finite.max())
             # a measure over decades (peaks over a wide box): colour its logarithm
-            log = lo > 0 and hi / lo > 30
-            if log:
+            if lo > 0 and hi / lo > 30:
                 data = np.log10(np.where(data > 0, data, np.nan))
                 lo, hi = math.log10(lo), math.log10(hi)
                 scale_note = " (colour on a log scale)"
             self.mapper.low, self.mapper.high = lo, hi
+        self.colour_bar.title = (
+            (f"log10 of {label}" if scale_note else label) + (f", {shown}" if shown else "")
+        )
         self.chart_src.selected.indices = []
         self.chart_src.data = dict(
             raw=np.where(np.isfinite(raw), raw, np.nan).ravel().tolist(),
-            x=(X / st.display.factor(dx.unit or "1")).ravel().tolist(),
-            y=(Y / st.display.factor(dy.unit or "1")).ravel().tolist(),
+            x=(X / fx).ravel().tolist(),
+            y=(Y / fy).ravel().tolist(),
             v=np.where(np.isfinite(data), data, np.nan).ravel().tolist(),
             ok=alpha.ravel().tolist(),
             i=np.indices(X.shape)[0].ravel().tolist(),
@@ -1021,16 +1248,17 @@ class Explorer:
         self.chart_fig.xaxis.axis_label = f"{xn}, {ux}" if ux else xn
         self.chart_fig.yaxis.axis_label = f"{yn}, {uy}" if uy else yn
         self.chart_fig.title.text = (
-            f"{label}"
-            + (f", {shown}" if shown else "")
-            + scale_note
-            + ": click a cell to load that design"
+            f"{label}" + (f", {shown}" if shown else "") + scale_note + ": click a cell to load it"
         )
         self.chart_msg.object = (
-            f"{ch.size} designs in {ch.elapsed:.2f} s; {int(ch.feasible.sum())} can be built; "
-            "faded cells break a constraint, blank cells cannot be built"
+            f"<span id='chart-done'>{ch.size} designs in {ch.elapsed:.2f} s; "
+            f"{int(ch.feasible.sum())} can be built; faded cells break a constraint, blank "
+            "cells cannot be built"
             + (f" ({_escape(ch.reason)})" if ch.reason else "")
+            + "</span>"
         )
+        self.dl_chart.disabled = False
+        self.dl_chart.label = "Chart (PNG)"
         self._colour_bar_range = (self.mapper.low, self.mapper.high)
 
     def _on_cell(self, attr, old, new):
@@ -1060,60 +1288,85 @@ class Explorer:
     # ------------------------------------------------------------------ exports
     def _save(self, name, data: bytes) -> io.BytesIO:
         if self.out is not None:
+            from ..fileio import write_bytes
+
             self.out.mkdir(parents=True, exist_ok=True)
             path = self.out / name
-            tmp = path.with_suffix(path.suffix + ".part")
-            tmp.write_bytes(data)
-            tmp.replace(path)
+            write_bytes(path, data)
             self.export_msg.object = f"written: <span class='written'>{_escape(str(path))}</span>"
         return io.BytesIO(data)
 
-    def _export_toml(self):
+    def _export_text(self, make, name, what):
         try:
-            text = self.state.problem_toml()
+            text = make()
         except (ValueError, MechanismError) as exc:
-            self.export_msg.object = f"<span style='color:#b00'>{_escape(str(exc))}</span>"
-            return io.BytesIO(f"# cannot write the problem: {exc}\n".encode())
-        return self._save("problem.toml", text.encode())
+            self.export_msg.object = (
+                f"<span style='color:#b00'>cannot write the {what}: {_escape(exc)}</span>"
+            )
+            return io.BytesIO(f"# cannot write the {what}: {exc}\n".encode())
+        return self._save(name, text.encode())
+
+    def _export_toml(self):
+        return self._export_text(self.state.problem_toml, "problem.toml", "problem file")
+
+    def _export_design(self):
+        return self._export_text(self.state.design_toml, "design.toml", "design file")
+
+    def _message_png(self, text) -> io.BytesIO:
+        """A PNG that says why there is nothing to draw (never an empty download)."""
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=(6, 2))
+        fig.text(0.5, 0.5, text, ha="center", va="center", wrap=True, fontsize=11)
+        self.export_msg.object = f"<span style='color:#b00'>{_escape(text)}</span>"
+        return io.BytesIO(_png(fig))
 
     def _export_drawing(self):
         from matplotlib.figure import Figure
 
         from ..display import display_units
 
+        if self.design is None:
+            return self._message_png(
+                "No valid design to draw: " + (self.design_msg.object or "fix the dimensions")
+            )
         fig = Figure(figsize=(6, 5))
         ax = fig.subplots()
-        k = int(self.player.value)
+        meta = self.frame_meta
+        phi = self._input_phi(int(self.frame.value))
         with display_units(self.state.units):
-            self.design.draw(
-                self.design.turn_sign * 2 * math.pi * k / FRAMES, ax=ax, trace=self.state.kind.trace
-            )
+            self.design.draw(phi, ax=ax, trace=tuple(self.trace_select.value))
+        del meta
         fig.tight_layout()
         return self._save("mechanism.png", _png(fig))
 
     def _export_curves(self):
         from matplotlib.figure import Figure
 
+        if self.design is None:
+            return self._message_png("No valid design: no motion curves to draw")
         fig = Figure(figsize=(9, 6))
         axes = fig.subplots(2, 2).ravel()
-        for f, src, ax in zip(self.curve_figs, self.curve_srcs, axes):
+        meta = self.frame_meta
+        k = int(self.frame.value) % meta["n"]
+        at = 360.0 * k / meta["n"] if meta["periodic"] else self.frame_cols["input"][k]
+        for cf, src, ax in zip(self.curve_figs, self.curve_srcs, axes):
             d = src.data
-            ax.plot(d["x"], d["y"], label="pressure" if f is self.curve_figs[3] else None)
-            if f is self.curve_figs[3]:
+            ax.plot(d["x"], d["y"], label="pressure" if cf is self.curve_figs[3] else None)
+            if cf is self.curve_figs[3]:
                 ax.plot(d["x"], d["y2"], label="transmission")
                 ax.legend(fontsize=8)
-            ax.axvline(360.0 * int(self.player.value) / FRAMES, color="#D55E00", lw=1)
-            ax.set_title(f.title.text, fontsize=10)
-            ax.set_xlabel("crank angle, deg")
-            ax.set_ylabel(f.yaxis[0].axis_label, fontsize=9)
-            ax.set_xlim(0, 360)
+            ax.axvline(at, color="#D55E00", lw=1)
+            ax.set_title(cf.title.text, fontsize=10)
+            ax.set_xlabel(cf.xaxis[0].axis_label)
+            ax.set_ylabel(cf.yaxis[0].axis_label, fontsize=9)
+            ax.set_xlim(d["x"][0], d["x"][-1])
         fig.tight_layout()
         return self._save("curves.png", _png(fig))
 
     def _export_chart(self):
         if self._chart is None:
-            self.export_msg.object = "sweep a chart first (Chart tab)"
-            return io.BytesIO(b"")
+            return self._message_png("No chart yet: press Sweep on the Chart tab first")
         from ..display import display_units
 
         label = self.chart_measure.value or None
@@ -1128,31 +1381,44 @@ class Explorer:
     # ------------------------------------------------------------------ layout
     def view(self):
         sidebar = pn.Column(
-            pn.pane.HTML("<h2 style='margin:4px 0'>mechsynth explore</h2>"),
+            pn.pane.HTML("<h1 style='margin:4px 0;font-size:1.4em'>mechsynth explore</h1>"),
             self.kind_select,
+            self.upload,
             pn.Row(self.file_input, self.file_button),
             self.file_msg,
             pn.Row(self.units_select, self.speed_input),
+            self.speed_msg,
             pn.Row(self.opt_button, self.cancel_button, self.progress),
             self.opt_status,
             self.design_msg,
             self.dims_col,
-            width=380,
-            scroll=True,
-            height=980,
+            width=350,
+            css_classes=["sidebar"],
+            styles={"max-height": "calc(100vh - 16px)", "overflow-y": "auto"},
+        )
+        player = pn.pane.Bokeh(
+            column(
+                row(self.play, self.back, self.fwd, self.reverse, sizing_mode="stretch_width"),
+                row(self.frame, sizing_mode="stretch_width"),
+                row(self.input_label, self.period, sizing_mode="stretch_width"),
+                row(self.vectors, sizing_mode="stretch_width"),
+                sizing_mode="stretch_width",
+            ),
+            sizing_mode="stretch_width",
         )
         design_tab = pn.Column(
-            pn.Row(
-                pn.pane.Bokeh(self.fig),
+            pn.pane.Bokeh(self.fig, sizing_mode="stretch_width"),
+            player,
+            pn.FlexBox(
                 pn.Column(
-                    pn.Row(self.player),
-                    self.fps,
+                    self.trace_select,
                     self.stats,
                     pn.pane.HTML("<b>Problem measures</b> (green: holds, red: violated)"),
                     self.checks_pane,
                 ),
+                *[pn.pane.Bokeh(cf) for cf in self.curve_figs],
             ),
-            pn.Row(*[pn.pane.Bokeh(f) for f in self.curve_figs]),
+            sizing_mode="stretch_width",
         )
         problem_tab = pn.Column(
             pn.Row(self.sense, self.objective),
@@ -1165,16 +1431,20 @@ class Explorer:
                 "process (the page stays live; <b>Cancel</b> stops it)."
             ),
             self.report,
+            sizing_mode="stretch_width",
         )
         chart_tab = pn.Column(
-            pn.Row(self.chart_x, self.chart_y, self.chart_n, self.chart_button),
+            pn.FlexBox(self.chart_x, self.chart_y, self.chart_n, self.chart_button),
             self.chart_measure,
+            pn.Row(self.chart_progress),
             self.chart_msg,
-            pn.pane.Bokeh(self.chart_fig),
+            pn.pane.Bokeh(self.chart_fig, sizing_mode="stretch_width"),
+            sizing_mode="stretch_width",
         )
         export_tab = pn.Column(
             pn.pane.HTML(
-                "The problem file runs with <code>mechsynth optimize FILE</code>."
+                "The problem file runs with <code>mechsynth optimize FILE</code>; the design "
+                "file with <code>mechsynth animate FILE</code> (and opens here again)."
                 + (
                     f" Exports are also written to <code>{_escape(str(self.out))}</code>."
                     if self.out
@@ -1182,10 +1452,12 @@ class Explorer:
                 )
             ),
             self.dl_toml,
+            self.dl_design,
             self.dl_draw,
             self.dl_curves,
             self.dl_chart,
             self.export_msg,
+            sizing_mode="stretch_width",
         )
         self.tabs = pn.Tabs(
             ("Design", design_tab),
@@ -1193,11 +1465,43 @@ class Explorer:
             ("Chart", chart_tab),
             ("Export", export_tab),
             dynamic=False,
+            sizing_mode="stretch_width",
         )
-        return pn.Row(sidebar, self.tabs)
+        main = pn.Column(
+            self.tabs, sizing_mode="stretch_width", min_width=300, css_classes=["main"]
+        )
+        return pn.FlexBox(
+            sidebar, main, flex_wrap="wrap", sizing_mode="stretch_width",
+            stylesheets=[_LAYOUT_CSS], css_classes=["explorer"],
+        )  # fmt: skip
+
+
+# the controls beside the drawing on a wide screen; on a narrow one the drawing first
+_LAYOUT_CSS = """
+.sidebar { flex: 0 0 350px; }
+.main { flex: 1 1 320px; width: auto !important; min-width: 0 !important; }
+@media (max-width: 720px) {
+  .main { order: 1; flex-basis: 100%; }
+  .sidebar { order: 2; flex: 1 1 100%; max-height: none !important; }
+}
+"""
 
 
 # ------------------------------------------------------------------------------ helpers
+class _Event:
+    def __init__(self, new):
+        self.new = new
+
+
+def _file_label(state: State, source: str | None) -> str:
+    """The menu's entry for a state read from a file: never the title of a built-in (whose
+    entry would be chosen instead, showing the built-in's values)."""
+    title = state.kind.title
+    if source and source not in title:
+        return f"{title} from {source}"
+    return title if title not in kind_names().values() else f"{title} (from a file)"
+
+
 def _widget(cls, label, **kwargs):
     """A widget titled ``label`` (``label`` in recent Panel, ``name`` before)."""
     key = "label" if "label" in cls.param else "name"
@@ -1211,6 +1515,11 @@ def _r(x: float) -> float:
     return float(f"{x:.6g}")
 
 
+def _text(x: float) -> str:
+    """A number as a field shows it (6 significant digits)."""
+    return f"{float(x):.6g}"
+
+
 def _set_label(widget, label):
     setattr(widget, "label" if "label" in widget.param else "name", label)
 
@@ -1220,15 +1529,10 @@ def label_of(widget) -> str:
     return widget.label if "label" in widget.param else widget.name
 
 
-def _frames_phi():
-    return np.arange(FRAMES) * (2 * np.pi / FRAMES)
-
-
 def _nice_step(x):
     if not x > 0 or not np.isfinite(x):
         return 1e-3
-    e = 10.0 ** math.floor(math.log10(x))
-    return e
+    return 10.0 ** math.floor(math.log10(x))
 
 
 def _escape(text):
@@ -1272,10 +1576,12 @@ def serve(
     start = load_file(file, units) if file else State.default(kind or "slider-crank", units)
     port = int(port) or free_port(host)
     out = Path(out) if out else None
+    source = Path(file).name if file else None
+    warm(start)  # the first chart's kernels load while the page is being opened
 
     def page():
         state = load_file(file, units) if file else State.default(kind or "slider-crank", units)
-        app = Explorer(state, out)
+        app = Explorer(state, out, source=source)
         poll = pn.state.add_periodic_callback(app.poll, period=150)
 
         def closed(context):
@@ -1285,7 +1591,6 @@ def serve(
         pn.state.on_session_destroyed(closed)
         return app.view()
 
-    del start  # read once above so that a bad file fails before the server starts
     origins = [f"{host}:{port}", f"localhost:{port}", f"127.0.0.1:{port}"]
     if host not in ("127.0.0.1", "localhost", "::1"):
         # served on a network address (--host): pages reach it by names the server cannot list

@@ -44,6 +44,8 @@ __all__ = [
     "sweep_chart",
     "solve_data",
     "solve_worker",
+    "parse_number",
+    "inputs",
 ]
 
 
@@ -581,6 +583,45 @@ class State:
     def unit_label(self, unit: str) -> str:
         return self.display.unit(unit) if unit else ""
 
+    # -------------------------------------------------------------- input speed
+    @property
+    def slider_driven(self) -> bool:
+        """True when the input is a driving slider (a length), not a crank."""
+        if self.kind.mechanism != "linkage":
+            return False
+        try:
+            return not is_periodic(self.kind.build(dict(self.kind.values)))
+        except (MechanismError, ValueError):
+            return False
+
+    def speed_field(self) -> tuple[str, float]:
+        """The speed field's label and its value shown: rpm for a crank, the display's
+        speed unit (m/s, mm/s, in/s) for a driving slider; 0 for none (analogs)."""
+        if self.slider_driven:
+            unit = self.unit_label("m/s")
+            value = 0.0 if self.speed is None else self.shown(self.speed, "m/s")
+            return f"Input speed (driving slider), {unit}", _r6(value)
+        value = 0.0 if self.speed is None else self.speed * 60 / (2 * math.pi)
+        return "Crank speed, rpm", _r6(value)
+
+    def set_speed(self, text) -> None:
+        """Set the speed from the field's text (its unit as :meth:`speed_field` says); 0 means
+        none (velocities and accelerations as analogs per unit of input). Raises
+        MechanismError naming the field for text that is not a number or a negative speed."""
+        label = self.speed_field()[0]
+        v = parse_number(text, label)
+        if v < 0:
+            raise MechanismError(
+                f"{label} must be positive, or 0 for analogs (the sense of motion is the "
+                f"mechanism's), got {v:g}"
+            )
+        if v == 0:
+            self.speed = None
+        elif self.slider_driven:
+            self.speed = self.si(v, "m/s")
+        else:
+            self.speed = v * 2 * math.pi / 60
+
     # -------------------------------------------------------------- design
     def field_messages(self) -> dict[str, str]:
         """``{dimension: message}`` for values that are not numbers or must be positive."""
@@ -674,13 +715,49 @@ class State:
             data["fixed"] = fixed
         return data
 
+    def design_data(self) -> dict:
+        """The current design as the dict of a design file (``mechsynth animate FILE``; the
+        explorer loads it back): the mechanism, the speed and ``[design]`` (SI numbers); a
+        linkage's tables inline."""
+        k = self.kind
+        if k.mechanism is None:
+            raise MechanismError(f"{k.title} has no design-file form")
+        bad = self.field_messages()
+        if bad:
+            raise MechanismError(next(iter(bad.values())))
+        params = k.to_params(dict(self.values)) if k.to_params else dict(self.values)
+        data: dict[str, Any] = {"mechanism": k.mechanism}
+        if self.speed is not None:
+            data["speed"] = float(self.speed)
+        if k.file_data:
+            data.update(copy.deepcopy(k.file_data))
+        design = {p: float(v) for p, v in params.items()}
+        design.update({t: v for t, v in k.text.items() if not t.startswith("_")})
+        data["design"] = design
+        return data
+
+    def design_toml(self) -> str:
+        """The current design as a TOML design file (SI numbers)."""
+        head = (
+            f"# {self.kind.title}: the design shown by the explorer (SI: m, rad, rad/s).\n"
+            "#   mechsynth animate THIS_FILE --out anim\n"
+        )
+        return head + to_toml(self.design_data())
+
     def problem_toml(self) -> str:
         """The page's problem as a TOML problem file (``mechsynth optimize FILE``)."""
         head = (
             f"# {self.kind.title}: the problem of the explorer page (SI: m, rad, rad/s).\n"
             "#   mechsynth optimize THIS_FILE --out results\n"
         )
-        return head + to_toml(self.problem_data())
+        data = self.problem_data()
+        params = self.kind.to_params(dict(self.values)) if self.kind.to_params else self.values
+        # problem files take no start point: the design on the page goes in as comments (the
+        # design file export carries it in a form the explorer and `mechsynth animate` read)
+        current = "".join(
+            f"#   {p} = {float(v)!r}\n" for p, v in params.items() if p in data["variables"]
+        )
+        return head + "# the design on the page when exported (SI):\n" + current + to_toml(data)
 
     def problem(self):
         """The :class:`~mechsynth.synthesis.problem_file.ProblemSpec` of the page."""
@@ -699,10 +776,46 @@ class State:
         return out
 
 
-def _turn(design, n):
-    from ..units import cycle
+def inputs(design, n: int) -> np.ndarray:
+    """``n`` inputs over one cycle of ``design``: crank angles over a turn in the machine's
+    direction, or equal steps over a driving slider's travel (m), both ends included."""
+    from ..kinematics.mechanism import input_domain, input_grid
 
-    return getattr(design, "turn_sign", 1) * cycle(int(n))
+    if input_domain(design)[2]:
+        return getattr(design, "turn_sign", 1) * input_grid(design, int(n))
+    return input_grid(design, int(n))
+
+
+def is_periodic(design) -> bool:
+    """True when the input is a crank angle; False for a linkage driven by a slider."""
+    from ..kinematics.mechanism import input_domain
+
+    return input_domain(design)[2]
+
+
+_turn = inputs
+
+
+def _r6(x: float) -> float:
+    return float(f"{x:.6g}")
+
+
+def parse_number(text, what: str) -> float:
+    """A number typed in a field: ``float`` of the whole text, or MechanismError naming the
+    field (an empty field, text that is not a number as a whole, NaN or infinity)."""
+    if isinstance(text, (int, float, np.integer, np.floating)) and not isinstance(text, bool):
+        value = float(text)
+    else:
+        raw = "" if text is None else str(text).strip()
+        if not raw:
+            raise MechanismError(f"{what}: the field is empty; type a number")
+        try:
+            value = float(raw)
+        except ValueError:
+            raise MechanismError(f"{what}: {raw!r} is not a number") from None
+    if not math.isfinite(value):
+        raise MechanismError(f"{what}: must be a finite number, got {value}")
+    return value
 
 
 # ------------------------------------------------------------------------------ TOML
@@ -817,15 +930,22 @@ def load_file(path, units: str = "si") -> State:
 
 # ------------------------------------------------------------------------------ analysis
 def curves(state: State, design, n: int = 361) -> dict[str, Any]:
-    """Motion curves over one turn (SI): ``angle`` (deg, the crank angle 0..360 in the
-    machine's direction), ``position``, ``velocity``, ``acceleration`` of the kind's output
-    with ``unit`` ("m" or "rad"), ``pressure`` and ``transmission`` angles (rad or None),
-    and ``stroke`` (m or rad)."""
+    """Motion curves over one cycle (SI): ``angle``, the input (deg: the crank angle 0..360 in
+    the machine's direction; or m: a driving slider's displacement over its travel) with
+    ``input_unit`` ("deg" or "m"), ``position``, ``velocity``, ``acceleration`` of the kind's
+    output with ``unit`` ("m" or "rad"), ``pressure`` and ``transmission`` angles (rad or
+    None), and ``stroke`` (m or rad)."""
     from ..units import cycle
 
-    deg = np.linspace(0.0, 360.0, n)
-    phi = getattr(design, "turn_sign", 1) * cycle(n - 1)
-    phi = np.append(phi, phi[0] + getattr(design, "turn_sign", 1) * 2 * np.pi)
+    if is_periodic(design):
+        deg = np.linspace(0.0, 360.0, n)
+        phi = getattr(design, "turn_sign", 1) * cycle(n - 1)
+        phi = np.append(phi, phi[0] + getattr(design, "turn_sign", 1) * 2 * np.pi)
+        input_unit = "deg"
+    else:
+        phi = inputs(design, n)
+        deg = phi.copy()
+        input_unit = "m"
     speed = state.speed
     m = design.motion(phi, speed=speed) if speed else design.motion(phi)
     what, name = state.kind.curve
@@ -851,6 +971,7 @@ def curves(state: State, design, n: int = 361) -> dict[str, Any]:
         unit=unit,
         speed=speed,
         output=name or what,
+        input_unit=input_unit,
     )
     out["pressure"] = (
         None

@@ -1,0 +1,320 @@
+"""The explorer as a user sees it, in headless Chromium: the drawing's visible range, the values
+in the fields, the messages' text, the downloaded files' contents, the layout at 1280 x 800 and
+390 x 844, the accessible names, the animation played in the browser.
+
+Skipped, with the reason, where Playwright, Panel or a Chromium executable is missing (see
+``tests/test_explore_browser.py``).
+"""
+
+import json
+import subprocess
+import sys
+import threading
+import tomllib
+from pathlib import Path
+
+import pytest
+from test_explore_browser import ROOT, chromium
+
+pytestmark = [pytest.mark.browser, pytest.mark.slow]
+
+REFERENCE = ROOT / "examples" / "optimize_centric_slider_crank.toml"
+ARGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
+# every joint of every frame of the cycle, and the drawing's visible range
+CYCLE = """() => { const d = Bokeh.documents[0];
+  const F = d.get_model_by_name('frames').data, f = d.get_model_by_name('drawing');
+  const M = JSON.parse(d.get_model_by_name('meta').data.json[0]);
+  let xs = [], ys = [];
+  for (const p of M.points) { xs = xs.concat(F['x:' + p]); ys = ys.concat(F['y:' + p]); }
+  return {x0: Math.min(...xs), x1: Math.max(...xs), y0: Math.min(...ys), y1: Math.max(...ys),
+          vx0: f.x_range.start, vx1: f.x_range.end, vy0: f.y_range.start, vy1: f.y_range.end,
+          w: f.inner_width, h: f.inner_height}; }"""
+
+
+@pytest.fixture(scope="module")
+def server(tmp_path_factory):
+    pytest.importorskip("panel", reason="the explorer needs Panel (pip install mechsynth[explore])")
+    pytest.importorskip("playwright", reason="browser tests need the playwright package")
+    if chromium() is None:
+        pytest.skip("no Chromium executable (install Debian's chromium or set MECHSYNTH_CHROMIUM)")
+    out = tmp_path_factory.mktemp("explore-visible")
+    err = open(out / "server.err", "w")
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "mechsynth", "explore", str(REFERENCE), "--no-browser", "--json",
+         "--units", "mm-deg", "--out", str(out / "exports")],
+        cwd=ROOT, stdout=subprocess.PIPE, stderr=err, text=True,
+    )  # fmt: skip
+    line = []
+    reader = threading.Thread(target=lambda: line.append(proc.stdout.readline()), daemon=True)
+    reader.start()
+    reader.join(timeout=120)
+    if not line or not line[0].strip():
+        proc.kill()
+        pytest.fail("mechsynth explore did not start: " + (out / "server.err").read_text())
+    info = json.loads(line[0])
+    info.update(out=out, pid=proc.pid, err=out / "server.err")
+    yield info
+    proc.terminate()
+    proc.wait(timeout=30)
+    err.close()
+
+
+@pytest.fixture(scope="module")
+def browser(server):
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as p:
+        b = p.chromium.launch(executable_path=chromium(), args=ARGS)
+        yield b
+        b.close()
+
+
+def _open(browser, server, width=1280, height=800):
+    pg = browser.new_page(viewport={"width": width, "height": height}, accept_downloads=True)
+    pg.goto(server["url"])
+    pg.wait_for_selector("#stroke", timeout=60_000)
+    pg.wait_for_timeout(800)
+    return pg
+
+
+@pytest.fixture
+def page(browser, server):
+    pg = _open(browser, server)
+    yield pg
+    pg.close()
+
+
+def _fill(page, css, value):
+    box = page.locator(f"{css} input").first
+    box.fill(str(value))
+    box.press("Enter")
+
+
+def _select(page, label, option):
+    page.get_by_label(label, exact=True).select_option(label=option)
+
+
+def _shown_fits(page):
+    """The drawing shows every joint over the cycle, and the mechanism is not a speck."""
+    c = page.evaluate(CYCLE)
+    assert c["vx0"] <= c["x0"] and c["x1"] <= c["vx1"], c
+    assert c["vy0"] <= c["y0"] and c["y1"] <= c["vy1"], c
+    fill = max(
+        (c["x1"] - c["x0"]) / (c["vx1"] - c["vx0"]), (c["y1"] - c["y0"]) / (c["vy1"] - c["vy0"])
+    )
+    assert fill > 0.5, c
+    # equal scales: as many units per pixel across as up
+    sx, sy = (c["vx1"] - c["vx0"]) / c["w"], (c["vy1"] - c["vy0"]) / c["h"]
+    assert sx == pytest.approx(sy, rel=0.02), c
+    return c
+
+
+def _wait_meta(page, before):
+    page.wait_for_function(
+        "(b) => Bokeh.documents[0].get_model_by_name('meta').data.json[0] !== b", arg=before,
+        timeout=30_000,
+    )  # fmt: skip
+    page.wait_for_timeout(400)
+
+
+def _meta(page):
+    return page.evaluate("() => Bokeh.documents[0].get_model_by_name('meta').data.json[0]")
+
+
+def test_the_view_follows_the_mechanism_its_size_and_the_units(page):
+    _shown_fits(page)
+    kinds = ("Four-bar", "Beam pumping unit (API 11E dimensions)", "Dwell linkage (paper 003)")
+    for option in kinds:
+        before = _meta(page)
+        _select(page, "Mechanism", option)
+        _wait_meta(page, before)
+        _shown_fits(page)
+    before = _meta(page)
+    _select(page, "Display units", "si")
+    _wait_meta(page, before)
+    c = _shown_fits(page)
+    assert c["vx1"] - c["vx0"] < 20  # metres now, not millimetres
+    # a much larger design: the view follows
+    _select(page, "Mechanism", "Slider-crank")
+    page.wait_for_timeout(1500)
+    before = _meta(page)
+    _fill(page, ".dim-rod", 0.9)
+    _wait_meta(page, before)
+    _shown_fits(page)
+
+
+def test_an_uploaded_file_shows_its_values_and_a_slider_driven_linkage_its_travel(page, tmp_path):
+    design = tmp_path / "my_design.toml"
+    design.write_text(
+        'mechanism = "slider-crank"\nspeed = "300 rpm"\n\n[design]\n'
+        'crank = "60 mm"\nrod = "250 mm"\noffset = "10 mm"\n'
+    )
+    from playwright.sync_api import expect
+
+    page.locator(".upload input[type=file]").set_input_files(str(design))
+    expect(page.locator(".dim-offset input").first).to_have_value("10", timeout=20_000)
+    assert page.locator(".dim-crank input").first.input_value() == "60"
+    assert page.locator(".speed input").first.input_value() == "300"
+    _shown_fits(page)
+    # the server's Load button (a path on the server's computer) works too
+    box = page.get_by_label("or a file's path on the server's computer")
+    box.fill(str(ROOT / "examples" / "optimize_cylinder_rocker.toml"))
+    page.get_by_role("button", name="Load").click()
+    expect(page.get_by_label("Input speed (driving slider), mm/s")).to_have_value(
+        "200", timeout=20_000
+    )
+    assert not page.locator(".design-message").get_by_text("cannot be built").is_visible()
+    assert "input displacement" in page.locator("#input-shown").inner_text()
+    _shown_fits(page)
+
+
+def test_refused_input_says_why(page):
+    _fill(page, ".speed", -600)
+    msg = page.locator(".speed-message").get_by_text("must be positive, or 0 for analogs")
+    msg.wait_for(timeout=20_000)
+    assert "got -600" in msg.inner_text()
+    assert page.locator(".speed input").first.input_value() == "-600"  # not replaced
+    _fill(page, ".dim-rod", "0.2x")
+    rod = page.locator(".msg-rod").get_by_text("is not a number")
+    rod.wait_for(timeout=20_000)
+    assert "'0.2x' is not a number" in rod.inner_text()
+    _fill(page, ".dim-rod", "")
+    empty = page.locator(".msg-rod").get_by_text("the field is empty")
+    empty.wait_for(timeout=20_000)
+    assert "nan" not in empty.inner_text()
+    _fill(page, ".dim-rod", 150)
+    page.locator("#stroke").get_by_text("100 mm").wait_for(timeout=20_000)
+    assert not page.locator(".msg-rod").get_by_text("not a number").is_visible()
+
+
+def _download(page, label):
+    page.get_by_text("Export", exact=True).click()
+    with page.expect_download(timeout=60_000) as dl:
+        page.get_by_text(label, exact=True).click()
+    return Path(dl.value.path()).read_bytes()
+
+
+def test_exports_carry_the_design_on_the_page(page):
+    _fill(page, ".dim-rod", 170)
+    page.locator("#stroke").get_by_text("100 mm").wait_for(timeout=20_000)
+    page.wait_for_timeout(500)
+    data = tomllib.loads(_download(page, "Design file (TOML)").decode())
+    assert data["design"]["rod"] == pytest.approx(0.17)
+    assert data["design"]["crank"] == pytest.approx(0.05)
+    text = _download(page, "Problem file (TOML)").decode()
+    assert "#   rod = 0.17" in text and tomllib.loads(text)["variables"]["rod"] == [0.08, 0.2]
+    png = _download(page, "Drawing (PNG)")
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"
+    # a chart before a sweep: its button says so and cannot be pressed
+    chart = page.get_by_role("button", name="Chart (PNG): sweep a chart first")
+    assert chart.is_disabled()
+
+
+def test_the_first_chart_sweep_shows_progress_then_the_chart(page):
+    page.get_by_text("Chart", exact=True).click()
+    page.get_by_role("button", name="Sweep").click()
+    page.locator("#chart-progress").wait_for(timeout=10_000)
+    page.locator("#chart-done").wait_for(timeout=180_000)
+    assert "900 designs" in page.locator("#chart-done").inner_text()
+    png = _download(page, "Chart (PNG)")
+    assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 10_000
+
+
+def _children(pid):
+    out = subprocess.run(
+        ["ps", "--ppid", str(pid), "-o", "pid=,stat=,comm="], capture_output=True, text=True
+    ).stdout
+    return [line.split() for line in out.splitlines() if line.strip()]
+
+
+def test_a_solve_reports_in_display_units_keeps_the_menu_and_leaves_no_zombie(page, server):
+    page.get_by_text("Problem", exact=True).click()
+    _fill(page, ".opt-starts", 60)
+    page.get_by_text("Design", exact=True).click()
+    page.get_by_role("button", name="Optimize").click()
+    page.locator("#opt-state").get_by_text("solving").wait_for(timeout=20_000)
+    _select(page, "Mechanism", "Four-bar")
+    page.locator("#opt-state").get_by_text("cancel the solve to change the mechanism").wait_for(
+        timeout=20_000
+    )
+    menu = page.get_by_label("Mechanism", exact=True)
+    assert "from optimize_centric_slider_crank.toml" in menu.evaluate(
+        "e => e.options[e.selectedIndex].text"
+    )
+    assert page.locator(".dim-rod").count() == 1  # still the slider-crank's dimensions
+    page.locator("#opt-state").get_by_text("optimal").wait_for(timeout=240_000)
+    text = page.locator("#opt-state").inner_text()
+    # r w^2 (1 + r/l) = 246.74 m/s^2 shown in the page's units, mm/s^2
+    assert "mm/s^2" in text
+    assert float(text.split("=")[1].split()[0]) == pytest.approx(246740.1, rel=1e-5)
+    page.wait_for_timeout(1000)
+    assert not [c for c in _children(server["pid"]) if c[1].startswith("Z")]
+
+
+@pytest.mark.parametrize("size", [(1280, 800), (390, 844)])
+def test_the_layout_fits_and_every_control_has_a_name(browser, server, size):
+    pg = _open(browser, server, *size)
+    try:
+        width = size[0]
+        for name in ("drawing",):
+            box = pg.evaluate(
+                f"() => {{ const f = Bokeh.documents[0].get_model_by_name('{name}');"
+                " return [f.outer_width, f.inner_width]; }"
+            )
+            assert 0 < box[0] <= width
+        for role, name in (("button", "Play"), ("button", "Reverse"), ("button", "Optimize")):
+            b = pg.get_by_role(role, name=name).bounding_box()
+            assert b["x"] >= 0 and b["x"] + b["width"] <= width, (name, b)
+        canvas = pg.locator(".bk-Canvas").first.bounding_box()
+        assert canvas["x"] >= 0 and canvas["x"] + canvas["width"] <= width + 0.5
+        _shown_fits(pg)
+        # accessible names: every input, select and slider handle is named
+        unnamed = pg.evaluate(
+            """() => { const bad = [];
+            function walk(root) {
+              for (const el of root.querySelectorAll('input, select, textarea, .noUi-handle')) {
+                if (el.type === 'hidden') continue;
+                const named = el.getAttribute('aria-label') ||
+                  (el.labels && [...el.labels].some(l => l.textContent.trim()));
+                if (!named) bad.push(el.outerHTML.slice(0, 120));
+              }
+              for (const el of root.querySelectorAll('*')) if (el.shadowRoot) walk(el.shadowRoot);
+            }
+            walk(document); return bad; }"""
+        )
+        assert unnamed == []
+    finally:
+        pg.close()
+
+
+def test_the_animation_plays_in_the_browser(page):
+    before = page.evaluate("() => window.mx_explore.drawn")
+    page.get_by_role("button", name="Play").click()
+    page.wait_for_timeout(2000)
+    state = page.evaluate("() => [window.mx_explore.fps, window.mx_explore.drawn]")
+    page.get_by_role("button", name="Pause").click()
+    assert state[0] > 20  # frames drawn per second by the browser, no server round trip
+    assert state[1] - before > 30
+    # velocity vectors at the current frame
+    page.get_by_text("velocity vectors", exact=True).click()
+    page.wait_for_timeout(300)
+    n = page.evaluate(
+        "() => Bokeh.documents[0].get_model_by_name('velocity').data_source.data.xs.length"
+    )
+    assert n == 2  # A and B of the slider-crank
+    # tracing another point: its closed path drawn
+    page.locator(".choices__input--cloned").first.click()
+    page.locator(".choices__item--choice", has_text="A").first.click()
+    page.wait_for_function(
+        "() => Bokeh.documents[0].get_model_by_name('paths').data_source.data.xs.length === 2",
+        timeout=10_000,
+    )
