@@ -285,6 +285,7 @@ class SpatialPumpingUnit(Mechanism):
             )
         s = check_length("crank_spacing", crank_spacing)
         w = s if equalizer_width is None else check_length("equalizer_width", equalizer_width)
+        validate.broadcast(crank_spacing=s, equalizer_width=w)
         splay = (np.asarray(s) - np.asarray(w)) / 2.0
         return cls(
             crank=unit.crank,
