@@ -21,7 +21,20 @@ def test_the_unit_has_the_7sk12_stroke():
     assert u.unit_class == "conventional"
 
 
-def test_study_run_reduced(tmp_path, capsys):
+def test_study_run_reduced(tmp_path, capsys, monkeypatch):
+    from pathlib import Path
+
+    from matplotlib.figure import Figure
+
+    from mechsynth.plotting import layout_problems
+
+    found, original = {}, Figure.savefig
+
+    def savefig(self, fname, *a, **kw):
+        found[Path(str(fname)).name] = layout_problems(self)
+        return original(self, fname, *a, **kw)
+
+    monkeypatch.setattr(Figure, "savefig", savefig)
     card = tmp_path / "card.csv"
     shutil.copy(CARD_FILE, card)
     out = tmp_path / "out"
@@ -85,6 +98,7 @@ def test_study_run_reduced(tmp_path, capsys):
     )
     for f in ("polished_rod", "clearance"):
         assert f"spatial_pump_{f}.png" in names
+        assert found[f"spatial_pump_{f}.png"] == []
     assert "spatial_pump_coverage.csv" in names
     assert data["coverage"]["study"] == "spatial-pump"
 

@@ -837,8 +837,9 @@ def _write(out, results):
     ax.axhline(100 * cl["split_rational"], color="C3", ls="--", label="rational drive")
     ax.axhline(100 * limit, color="C1", lw=1, label=f"{limit:.0%} limit")
     ax.set_xlabel(
-        f"pin play, mrad (x bearing length = diametral clearance: 1 mrad is "
-        f"{cl['bearing_length_m'] * 1e3:g} µm in a {cl['bearing_length_m'] * 1e3:g} mm bearing)"
+        "pin play = diametral clearance / bearing length, mrad\n"
+        f"(1 mrad is {cl['bearing_length_m'] * 1e3:g} µm in a {cl['bearing_length_m'] * 1e3:g} mm"
+        " bearing)"
     )
     ax.set_ylabel("peak pitman split, %")
     ax.set_title("Wear clearance in the pins A, A1, B, B1 against the pitman split", fontsize=9)
