@@ -91,7 +91,7 @@ def _trend(x, y):
         return 1
     if np.all(d <= 0) and np.any(d < 0):
         return -1
-    return 0 if np.any(d) else 0
+    return 0
 
 
 def extra_rod_effect(machine: ImpactMachine, lengths, rhos=None, n=360) -> dict:
