@@ -16,7 +16,7 @@ from mechsynth.studies.coverage import (
 )
 
 ROOT = Path(__file__).resolve().parents[1]
-COVERED = {"extreme-velocity", "nail-header", "beam-pump", "impact", "spatial-pump"}
+COVERED = {"extreme-velocity", "nail-header", "beam-pump", "impact", "spatial-pump", "dwell"}
 
 
 def test_the_studies_declare_their_coverage():
