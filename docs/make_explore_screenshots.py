@@ -42,7 +42,7 @@ def chromium():
 
 
 def fill(page, name, value):
-    box = page.locator(f".dim-{name} input").first
+    box = page.get_by_label(f"{name}, mm", exact=True)
     box.fill(str(value))
     box.press("Enter")
 
@@ -118,7 +118,7 @@ def main(out=FIGURES):
                 label="Impact machine (paper 001, ms.six_link)"
             )
             expect(page.locator("#stroke")).to_have_text("39.0011 mm", timeout=60_000)
-            page.locator(".dim-KN input").first.wait_for(timeout=60_000)
+            page.get_by_label("KN, mm", exact=True).wait_for(timeout=60_000)
             page.get_by_text("velocity vectors", exact=True).click()
             for _ in range(14):  # 5 deg a step: 70 deg
                 page.get_by_role("button", name="Step forward").click()
@@ -184,7 +184,7 @@ def measure(steps: int = 20) -> dict:
                 " if (e.model === s && e.attr === 'data') window.__redrawn.push(performance.now());"
                 " }); }"
             )
-            handle = page.locator(".dim-rod .noUi-handle").first
+            handle = page.get_by_label("rod, mm (connecting rod AB)", exact=True)
             handle.focus()
             latency = []
             for k in range(steps):

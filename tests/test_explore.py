@@ -475,3 +475,66 @@ def test_a_slider_driven_linkage_runs_over_its_travel():
     c = model.curves(st, design)
     lo, hi = design.input_range
     assert c["input_unit"] == "m" and c["angle"][0] == lo and c["angle"][-1] == hi
+
+
+def test_motion_generation_in_the_page_loads_a_linkage_through_the_poses():
+    pytest.importorskip("panel")
+    import time
+
+    from mechsynth.explore.app import Explorer
+
+    page = Explorer(State.default("slider-crank", units="mm-deg"))
+    page.poses_input.value = "0, 0\n"
+    page._on_synthesize()
+    while page._synth is not None:
+        time.sleep(0.05)
+        page.poll()
+    assert "pose line 1: give x, y and angle (3 numbers), got 2" in page.synth_msg.object
+    lines = (EXAMPLES / "motion_poses.csv").read_text().splitlines()[4:]
+    page.poses_input.value = "\n".join(lines)  # five poses, mm and deg
+    page._on_synthesize()
+    while page._synth is not None:
+        time.sleep(0.05)
+        page.poll()
+    assert "12 linkages through the 5 poses" in page.synth_msg.object
+    page._on_load_candidate()
+    assert page.state.kind.title == "Motion generation: solution 1"
+    assert page.src_targets.data["x"][0] == pytest.approx(117.060890)
+    # the loaded linkage's coupler point P passes through every target at the candidate's
+    # crank angles (the library's own result, here through the page's state)
+    cand = page._candidates[0]
+    design = page.state.design()
+    m = design.motion(np.asarray(cand.crank_angles))
+    poses = np.loadtxt(EXAMPLES / "motion_poses.csv", delimiter=",", skiprows=4)
+    assert np.asarray(m.points["P"].x) * 1e3 == pytest.approx(poses[:, 0], abs=1e-6)
+    assert np.asarray(m.points["P"].y) * 1e3 == pytest.approx(poses[:, 1], abs=1e-6)
+
+
+def test_a_dragged_fixed_pivot_moves_its_dimensions_or_snaps_back():
+    pytest.importorskip("panel")
+    from mechsynth.explore.app import Explorer
+
+    page = Explorer(State.default("impact", units="mm-deg"))
+
+    def drag(name, dx):
+        data = {k: list(v) for k, v in page._ground_shown.items()}
+        data["x"][data["name"].index(name)] += dx
+        page.src_ground.data = data
+
+    drag("D", -2.0)  # mm
+    assert page.state.values["D_x"] == pytest.approx(0.078)
+    assert page.dim_fields["D_x"].value == "78" and not page.design_msg.visible
+    drag("D", 300.0)  # the dyad cannot reach: back where it was, with the reason
+    assert page.state.values["D_x"] == pytest.approx(0.078)
+    assert page.src_ground.data["x"][1] == pytest.approx(78.0)
+    assert page.design_msg.visible and "cannot move D there: RRR group B" in (
+        page.design_msg.object
+    )
+    drag("O", 5.0)  # O places the linkage's origin too: it is a dimension of the linkage
+    assert page.state.values["O_x"] == pytest.approx(0.005)
+    sc = Explorer(State.default("slider-crank", units="mm-deg"))
+    data = {k: list(v) for k, v in sc._ground_shown.items()}
+    data["x"][0] += 5.0
+    sc.src_ground.data = data
+    assert "O is the frame's origin of the Slider-crank: it stays" in sc.design_msg.object
+    assert sc.src_ground.data["x"] == [0.0]

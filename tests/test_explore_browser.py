@@ -102,7 +102,7 @@ def page(browser, server):
 
 
 def _fill(page, name, value):
-    box = page.locator(f".dim-{name} input").first
+    box = page.get_by_label(f"{name}, mm", exact=True)
     box.fill(str(value))
     box.press("Enter")
 
@@ -126,7 +126,7 @@ def test_moving_a_slider_redraws_and_gives_the_apis_stroke(page):
     _fill(page, "offset", 10)
     expect(page.locator("#stroke")).not_to_have_text("100 mm", timeout=20_000)
     before = page.evaluate(JOINTS)
-    handle = page.locator(".dim-crank .noUi-handle").first
+    handle = page.get_by_label("crank, mm (crank OA)", exact=True)
     box = handle.bounding_box()
     y = box["y"] + box["height"] / 2
     page.mouse.move(box["x"] + box["width"] / 2, y)
@@ -140,7 +140,7 @@ def test_moving_a_slider_redraws_and_gives_the_apis_stroke(page):
         timeout=20_000,
     )
     page.wait_for_timeout(500)
-    crank = float(page.locator(".dim-crank input").first.input_value()) * 1e-3
+    crank = float(page.get_by_label("crank, mm", exact=True).input_value()) * 1e-3
     assert crank > 0.05
     sc = ms.SliderCrank(crank=crank, rod=0.14, offset=0.01)
     assert _stroke_mm(page) == pytest.approx(sc.stroke * 1e3, rel=1e-5)
@@ -162,7 +162,7 @@ def test_invalid_field_shows_its_message_and_recovers(page):
     expect(page.locator("#stroke")).to_have_text("100 mm", timeout=20_000)
     expect(msg).to_be_hidden()
     # a reversed bound
-    lo = page.locator(".lo-crank input").first
+    lo = page.get_by_label("crank lower bound", exact=True)
     lo.fill("90")
     lo.press("Enter")
     bound = page.locator(".msg-crank").get_by_text("is not below the upper bound")
@@ -199,8 +199,8 @@ def test_optimize_reaches_the_known_optimum_and_the_page_stays_live(page):
     assert float(value) * 1e-3 == pytest.approx(optimum, rel=1e-5)
     # the sliders moved to the optimum: crank 50 mm, rod 200 mm
     page.wait_for_timeout(500)
-    assert float(page.locator(".dim-crank input").first.input_value()) == pytest.approx(50.0)
-    assert float(page.locator(".dim-rod input").first.input_value()) == pytest.approx(200.0)
+    assert float(page.get_by_label("crank, mm", exact=True).input_value()) == pytest.approx(50.0)
+    assert float(page.get_by_label("rod, mm", exact=True).input_value()) == pytest.approx(200.0)
     assert "certified: True" in page.locator("#opt-report").inner_text()
 
 

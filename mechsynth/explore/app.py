@@ -37,6 +37,7 @@ from bokeh.models import (
     HoverTool,
     Label,
     LinearColorMapper,
+    PointDrawTool,
     Range1d,
     Slider,
     Span,
@@ -48,10 +49,12 @@ from ..errors import MechanismError
 from .animation import A11Y_JS, COLORS, FRAMES, PLAYER_JS, fit_ranges, frame_glyphs, frames
 from .model import (
     State,
+    candidate_state,
     checks,
     curves,
     kind_names,
     load_file,
+    motion_candidates,
     parse_number,
     solve_worker,
     sweep_chart,
@@ -137,6 +140,9 @@ class Explorer:
         self._fit_next = True
         self._reaped = []
         self._rows, self._row_dims = [], []
+        self._targets = None  # target poses (SI rows x, y, angle) shown on the drawing
+        self._synth = None  # the running motion-generation search (a future)
+        self._candidates = []
         self._build_widgets(source)
         self._rebuild_dims()
         self._refresh(None)
@@ -250,10 +256,18 @@ class Explorer:
             "x", "y", width="w", height="h", angle="angle", source=self.src_blocks,
             fill_color="#bbbbbb", line_color="#333333", name="blocks",
         )  # fmt: skip
-        f.scatter(
+        ground = f.scatter(
             "x", "y", source=self.src_ground, marker="triangle", size=16, fill_color="#888888",
             line_color="black", name="ground",
         )  # fmt: skip
+        # a fixed pivot is dragged to move it (the dimensions that place it follow)
+        self.drag_tool = PointDrawTool(
+            renderers=[ground], add=False, drag=True, description="Drag a fixed pivot"
+        )
+        f.add_tools(self.drag_tool)
+        f.toolbar.active_drag = self.drag_tool  # pan is a click away in the toolbar
+        self.src_ground.on_change("data", self._on_ground_moved)
+        self._ground_shown = None
         f.multi_line("xs", "ys", source=self.src_vel, line_color="#009E73", line_width=2.5,
                      name="velocity")  # fmt: skip
         f.multi_line("xs", "ys", source=self.src_acc, line_color="#CC79A7", line_width=2.5,
@@ -428,6 +442,42 @@ class Explorer:
         self.chart_fig.select_one(TapTool).mode = "replace"
         self.chart_src.selected.on_change("indices", self._on_cell)
 
+        # synthesis: motion generation through target poses
+        self.src_targets = ColumnDataSource(dict(x=[], y=[], xs=[], ys=[]))
+        self.fig.multi_line(
+            "xs", "ys", source=self.src_targets, line_color="#E69F00", line_width=3,
+            name="target-axes",
+        )  # fmt: skip
+        self.fig.scatter(
+            "x", "y", source=self.src_targets, marker="square", size=10, fill_color="#E69F00",
+            line_color="black", name="targets",
+        )  # fmt: skip
+        self.poses_input = _widget(
+            pn.widgets.TextAreaInput,
+            "Target poses of the coupler, one a line: x, y (length unit), angle (deg)",
+            value=_DEFAULT_POSES,
+            height=130,
+            min_width=280,
+            max_width=600,
+            sizing_mode="stretch_width",
+            css_classes=["poses"],
+        )
+        self.synth_button = _widget(
+            pn.widgets.Button, "Find linkages", button_type="primary", width=130
+        )
+        self.synth_button.on_click(lambda e: self._later(self._on_synthesize))
+        self.synth_msg = pn.pane.HTML(
+            "", sizing_mode="stretch_width", css_classes=["synth-message"]
+        )
+        self.synth_table = pn.pane.HTML(
+            "", sizing_mode="stretch_width", css_classes=["synth-table"]
+        )
+        self.synth_pick = _widget(pn.widgets.Select, "Solution", options=[], width=120)
+        self.synth_load = _widget(
+            pn.widgets.Button, "Load into the editor", width=170, disabled=True
+        )
+        self.synth_load.on_click(lambda e: self._later(self._on_load_candidate))
+
         # exports
         def download(cb, filename, label, **kw):
             return pn.widgets.FileDownload(
@@ -463,21 +513,20 @@ class Explorer:
         msg = pn.pane.Alert(
             "", alert_type="danger", visible=False, width=320, margin=(0, 5),
         )  # fmt: skip
+        # rows are reused across mechanisms, and Panel does not pass a change of css classes on
+        # to the page: a row's parts are found by their labels (and a message by its markup)
         head = pn.Column(field, slider, margin=0)
-        # the css classes that name a row's parts go on plain containers: changing them on a
-        # pane or a widget makes Panel replace its model, which the browser can miss
-        boxes = {k: pn.Column(w, margin=0) for k, w in (("lo", lo_in), ("hi", hi_in), ("msg", msg))}
         layout = pn.Column(
             head,
-            pn.Row(vary, boxes["lo"], boxes["hi"], margin=(-4, 5, 0, 5)),
-            boxes["msg"],
+            pn.Row(vary, lo_in, hi_in, margin=(-4, 5, 0, 5)),
+            msg,
             margin=(0, 0, 6, 0),
             styles={"border-bottom": "1px solid #ddd"},
             visible=False,
         )
         return dict(
             slider=slider, field=field, vary=vary, lo=lo_in, hi=hi_in, msg=msg, head=head,
-            layout=layout, boxes=boxes,
+            layout=layout,
         )  # fmt: skip
 
     def _rebuild_dims(self):
@@ -514,19 +563,18 @@ class Explorer:
                 _set_label(hi_in, f"{d.name} upper bound")
                 hi_in.value = _text(st.shown(vhi, d.unit))
                 msg.param.update(object="", visible=False)
-                for key in ("lo", "hi", "msg"):
-                    row_["boxes"][key].css_classes = [f"{key}-{d.name}"]
-                row_["head"].css_classes = [f"dim-{d.name}"]
                 row_["layout"].visible = True
                 self.dim_widgets[d.name] = (slider, vary, lo_in, hi_in, msg)
                 self.dim_fields[d.name] = field
             for row_ in self._rows[len(dims):]:
                 row_["layout"].visible = False
-                row_["head"].css_classes = []
-                for key in ("lo", "hi", "msg"):
-                    row_["boxes"][key].css_classes = []
             label, speed = st.speed_field()
             _set_label(self.speed_input, label)
+            _set_label(
+                self.poses_input,
+                f"Target poses of the coupler, one a line: x, y ({st.unit_label('m')}), "
+                "angle (deg)",
+            )
             self.speed_input.value = _text(speed)
             self.speed_msg.visible = False
             self.objective.value = st.objective
@@ -599,6 +647,7 @@ class Explorer:
                 self._building = False
             return
         self._kind_value = event.new
+        self._targets = None
         if event.new == "__file__":
             self.state = self.loaded["__file__"]
             self.state.units = self.units_select.value
@@ -748,7 +797,8 @@ class Explorer:
                 or bad.get(n)
                 or self._design_msgs.get(n, "")
             )
-            msg.object = text
+            # the dimension's name in the message's markup (rows are reused across mechanisms)
+            msg.object = f"<div class='msg-{n}'>{_escape(text, quote=False)}</div>" if text else ""
             msg.visible = bool(text)
         return not bad and not any(k.startswith("bound:") for k in self._field_msgs)
 
@@ -815,11 +865,7 @@ class Explorer:
             self.fig.x_range.update(start=x0, end=x1, reset_start=x0, reset_end=x1)
             self.fig.y_range.update(start=y0, end=y1, reset_start=y0, reset_end=y1)
         cols = self.frame_cols
-        self.src_ground.data = dict(
-            x=[cols[f"x:{g}"][0] for g in meta["ground"]],
-            y=[cols[f"y:{g}"][0] for g in meta["ground"]],
-            name=list(meta["ground"]),
-        )
+        self._show_ground()
         points = list(meta["points"])
         self._building = True
         try:
@@ -829,10 +875,62 @@ class Explorer:
         finally:
             self._building = False
         self._draw_paths()
+        self._draw_targets()
         self._draw_frame(int(self.frame.value))
         self.src_frames.data = cols
         self.src_meta.data = dict(json=[json.dumps(meta)], force=[bool(self._fit_next)])
         self._fit_next = False
+
+    def _show_ground(self):
+        cols, meta = self.frame_cols, self.frame_meta
+        data = dict(
+            x=[cols[f"x:{g}"][0] for g in meta["ground"]],
+            y=[cols[f"y:{g}"][0] for g in meta["ground"]],
+            name=list(meta["ground"]),
+        )
+        self._ground_shown = data
+        self.src_ground.data = dict(data)
+
+    def _on_ground_moved(self, attr, old, new):
+        """A fixed pivot dragged on the drawing: the dimensions that place it follow when the
+        linkage still assembles over its cycle; otherwise it snaps back, saying why."""
+        shown = self._ground_shown
+        if shown is None or new is shown or self.frame_meta is None:
+            return
+        moved = [
+            i
+            for i, (x, y) in enumerate(zip(new.get("x", []), new.get("y", [])))
+            if i < len(shown["x"]) and (x, y) != (shown["x"][i], shown["y"][i])
+        ]
+        if not moved or len(new.get("x", [])) != len(shown["x"]):
+            return
+        i = moved[0]
+        name = shown["name"][i]
+        st = self.state
+        f = st.display.factor("m")
+        x, y = float(new["x"][i]) * f, float(new["y"][i]) * f
+        dims = {d.name for d in st.kind.dims}
+        before = dict(st.values)
+        if {f"{name}_x", f"{name}_y"} <= dims:
+            st.values[f"{name}_x"], st.values[f"{name}_y"] = x, y
+        elif st.kind.key == "four-bar" and name == "O2":
+            x1, y1 = shown["x"][0] * f, shown["y"][0] * f
+            st.values["ground"] = math.hypot(x - x1, y - y1)
+        else:
+            self._snap_back(f"{name} is the frame's origin of the {st.kind.title}: it stays")
+            return
+        design, message = st.check_design()
+        if message is not None:
+            st.values = before
+            self._snap_back(f"cannot move {name} there: {message}")
+            return
+        self._sync_values()
+        self._refresh(None)
+
+    def _snap_back(self, why):
+        self.design_msg.object = why
+        self.design_msg.visible = True
+        self._show_ground()
 
     def _draw_paths(self):
         cols = self.frame_cols
@@ -1080,6 +1178,7 @@ class Explorer:
                     "process ended without a result</span>"
                 )
         self._poll_sweep()
+        self._poll_synthesis()
 
     def _objective_unit(self) -> str:
         from ..synthesis.problem_file import parse_measure
@@ -1110,6 +1209,82 @@ class Explorer:
         )
         self.report.object = "<pre id='opt-report'>" + _escape(res.get("report", "")) + "</pre>"
         self.last_result = res
+
+    # ------------------------------------------------------------------ synthesis
+    def _on_synthesize(self, event=None):
+        if self._synth is not None:
+            return
+        snapshot = _snapshot(self.state)
+        text = self.poses_input.value or ""
+        self.synth_button.disabled = True
+        self.synth_msg.object = "<span id='synth-state'>searching...</span>"
+        self._synth = _POOL.submit(motion_candidates, text, snapshot)
+
+    def _poll_synthesis(self):
+        if self._synth is None or not self._synth.done():
+            return
+        fut, self._synth = self._synth, None
+        self.synth_button.disabled = False
+        try:
+            poses, cands = fut.result()
+        except (ValueError, MechanismError) as exc:
+            self.synth_msg.object = (
+                f"<span id='synth-state' style='color:#b00'>{_escape(exc)}</span>"
+            )
+            return
+        self._candidates, self._candidate_poses = cands, poses
+        st = self.state
+        rows = []
+        for i, c in enumerate(cands, start=1):
+            p = c.linkage.parameters
+            rows.append(
+                f"<tr><td>{i}</td><td>{c.kind}</td><td>{' '.join(c.defects) or 'none'}</td>"
+                f"<td>{c.grashof}</td><td>{math.degrees(c.min_transmission):.1f}</td>"
+                f"<td>{self._fmt(float(p['OA']), 'm')}</td>"
+                f"<td>{self._fmt(float(p['AB']), 'm')}</td></tr>"
+            )
+        self.synth_table.object = (
+            "<table id='synth-table' style='font-size:13px'><tr><th>rank</th><th>kind</th>"
+            "<th>defects</th><th>Grashof</th><th>min transmission angle, deg</th><th>crank</th>"
+            "<th>coupler</th></tr>" + "".join(rows) + "</table>"
+        )
+        self.synth_pick.options = [str(i) for i in range(1, len(cands) + 1)]
+        self.synth_pick.value = "1"
+        self.synth_load.disabled = False
+        self.synth_msg.object = (
+            f"<span id='synth-state'>{len(cands)} linkages through the {len(poses)} poses, "
+            "best first (defect-free first, then by their transmission angle): pick one and "
+            "load it to see it move over the targets</span>"
+        )
+        del st
+
+    def _on_load_candidate(self, event=None):
+        if not self._candidates or self._busy("load a solution"):
+            return
+        rank = int(self.synth_pick.value or 1)
+        st = candidate_state(self._candidates[rank - 1], rank, self.units_select.value)
+        targets = self._candidate_poses
+        self._load_state(st, None)
+        self._targets = targets
+        self._draw_targets()
+        if hasattr(self, "tabs"):
+            self.tabs.active = 0  # the drawing, where the solution moves over its targets
+
+    def _draw_targets(self):
+        t = self._targets
+        if t is None or self.frame_meta is None:
+            self.src_targets.data = dict(x=[], y=[], xs=[], ys=[])
+            return
+        f = self.state.display.factor("m")
+        x0, x1, y0, y1 = self.frame_meta["extent"]
+        r = 0.08 * max(x1 - x0, y1 - y0)
+        x, y = t[:, 0] / f, t[:, 1] / f
+        self.src_targets.data = dict(
+            x=x.tolist(),
+            y=y.tolist(),
+            xs=[[a, a + r * math.cos(g)] for a, g in zip(x, t[:, 2])],
+            ys=[[b, b + r * math.sin(g)] for b, g in zip(y, t[:, 2])],
+        )
 
     # ------------------------------------------------------------------ chart
     def _on_sweep(self, event=None):
@@ -1441,6 +1616,19 @@ class Explorer:
             pn.pane.Bokeh(self.chart_fig, sizing_mode="stretch_width"),
             sizing_mode="stretch_width",
         )
+        synth_tab = pn.Column(
+            pn.pane.HTML(
+                "<b>Motion generation</b>: four-bars and slider-cranks whose coupler passes "
+                "through 2 to 5 poses (<code>ms.motion_generation</code>; 3 poses leave the "
+                "fixed pivots free, so give 4 or 5 here)."
+            ),
+            self.poses_input,
+            self.synth_button,
+            self.synth_msg,
+            self.synth_table,
+            pn.Row(self.synth_pick, self.synth_load),
+            sizing_mode="stretch_width",
+        )
         export_tab = pn.Column(
             pn.pane.HTML(
                 "The problem file runs with <code>mechsynth optimize FILE</code>; the design "
@@ -1463,6 +1651,7 @@ class Explorer:
             ("Design", design_tab),
             ("Problem", problem_tab),
             ("Chart", chart_tab),
+            ("Synthesis", synth_tab),
             ("Export", export_tab),
             dynamic=False,
             sizing_mode="stretch_width",
@@ -1474,6 +1663,14 @@ class Explorer:
             sidebar, main, flex_wrap="wrap", sizing_mode="stretch_width",
             stylesheets=[_LAYOUT_CSS], css_classes=["explorer"],
         )  # fmt: skip
+
+
+# five poses of a crank-rocker's coupler (examples/motion_poses.csv), in mm and deg
+_DEFAULT_POSES = """117.06, 162.96, 74.08
+108.33, 234.82, 57.49
+16.41, 242.76, 49.78
+-71.55, 155.10, 54.48
+-72.26, 50.12, 71.67"""
 
 
 # the controls beside the drawing on a wide screen; on a narrow one the drawing first
@@ -1535,10 +1732,10 @@ def _nice_step(x):
     return 10.0 ** math.floor(math.log10(x))
 
 
-def _escape(text):
+def _escape(text, quote=True):
     import html
 
-    return html.escape(str(text))
+    return html.escape(str(text), quote=quote)
 
 
 def _png(fig) -> bytes:

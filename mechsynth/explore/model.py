@@ -1144,3 +1144,46 @@ def solve_worker(data: dict, messages) -> None:
         messages.put(("done", solve_data(data, messages)))
     except Exception as exc:  # noqa: BLE001 - every failure goes back to the page as text
         messages.put(("error", f"{type(exc).__name__}: {exc}"))
+
+
+# ------------------------------------------------------------------------------ synthesis
+def parse_poses(text: str, state: State) -> np.ndarray:
+    """Target poses typed one a line, ``x, y, angle`` in the page's units (lengths in its
+    length unit, the angle in degrees; commas or spaces between them), as rows ``(x, y,
+    angle)`` in SI (m, m, rad). MechanismError names the line that is not three numbers."""
+    rows = []
+    for i, line in enumerate(str(text or "").splitlines(), start=1):
+        line = line.split("#")[0].strip()
+        if not line:
+            continue
+        parts = [p for p in re.split(r"[,\s;]+", line) if p]
+        if len(parts) != 3:
+            raise MechanismError(
+                f"pose line {i}: give x, y and angle (3 numbers), got {len(parts)}: {line!r}"
+            )
+        x, y, a = (parse_number(p, f"pose line {i}") for p in parts)
+        rows.append((state.si(x, "m"), state.si(y, "m"), math.radians(a)))
+    if not 2 <= len(rows) <= 5:
+        raise MechanismError(f"motion generation takes 2 to 5 poses, got {len(rows)}")
+    return np.array(rows, dtype=float)
+
+
+def motion_candidates(text: str, state: State, limit: int = 12):
+    """Four-bars and slider-cranks that carry a coupler through the poses typed in ``text``
+    (:func:`parse_poses`), ranked by :func:`mechsynth.motion_generation` (defect-free first):
+    ``(poses, candidates)`` with at most ``limit`` candidates."""
+    from ..synthesis.motion_generation import motion_generation
+
+    poses = parse_poses(text, state)
+    mg = motion_generation(poses)
+    if not mg.candidates:
+        raise MechanismError("no four-bar or slider-crank carries the coupler through the poses")
+    return poses, list(mg.candidates[: int(limit)])
+
+
+def candidate_state(candidate, rank: int, units: str = "si") -> State:
+    """The page's state of a motion-generation candidate: its linkage (the coupler point P on
+    the first pose's origin, Q along its x axis) with P's path traced."""
+    kind = linkage_kind(candidate.linkage_data(), title=f"Motion generation: solution {rank}")
+    kind.trace = ("P",)
+    return State.of(kind, units)
