@@ -191,10 +191,11 @@ PARALLEL_MIN = 1 << 22
 def _speed(speed):
     if speed is None:
         return 1.0
-    w = float(speed)
-    if not math.isfinite(w):
-        raise MechanismError(f"speed must be finite, got {speed!r}")
-    return w
+    if type(speed) is float and math.isfinite(speed):
+        return speed
+    from .. import validate
+
+    return validate.number("speed", speed, "rad/s")
 
 
 # ------------------------------------------------------------------------------- four-bar
