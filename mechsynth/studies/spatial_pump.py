@@ -59,6 +59,7 @@ from ..machines.pumping_unit.spatial_design import (
 from ..machines.pumping_unit.spatial_forces import SpatialMasses, planar_torque, power_balance
 from ..machines.pumping_unit.spatial_unit import DEVIATIONS, SpatialPumpingUnit
 from ..options import Option, takes_options
+from ..plotting import LINESTYLES
 from ..units import spm as spm_to_rad
 from . import StudyResult
 from .coverage import Coverage, Item
@@ -758,7 +759,15 @@ def _summary(data, tol_rev, tol_rat) -> str:
 
 
 def _write(out, results):
-    """Figures and tables of the study into ``out`` (the ``results`` of :func:`run`)."""
+    """Figures and tables of the study into ``out`` (the ``results`` of :func:`run`), in the
+    house style (its colour-blind-safe cycle: the "C0".."C6" colours below are the palette's)."""
+    from ..plotting import style
+
+    with style():
+        return _write_all(out, results)
+
+
+def _write_all(out, results):
     r = results
     theta, planar, forces, t_planar, cb = (
         r[k] for k in ("theta", "planar", "forces", "t_planar", "cb")
@@ -786,8 +795,8 @@ def _write(out, results):
         files.append(out / name)
 
     def mark(ax):
-        for d in dead:
-            ax.axvline(d, color="0.6", lw=0.8, ls=":")
+        for k, d in enumerate(dead):  # dotted: the planar unit's dead centres
+            ax.axvline(d, color="0.6", lw=0.8, ls=":", label="dead centres" if k == 0 else None)
 
     # the card
     fig, ax = plt.subplots(figsize=(7, 4), constrained_layout=True)
@@ -858,6 +867,8 @@ def _write(out, results):
         a2.plot(x, 100 * (fl - fr) / ref, "k" + ls, label=f"{name} (peak {f.peak_split:.2%})")
     a2.axhline(100 * limit, color="C1", lw=1)
     a2.axhline(-100 * limit, color="C1", lw=1, label=f"±{limit:.0%} (the tolerance limit)")
+    lo, hi = a2.get_ylim()  # the limit lines inside the frame, not on it
+    a2.set_ylim(min(lo, -130 * limit), max(hi, 130 * limit))
     a1.set_ylabel("pitman axial force, kN")
     a2.set_ylabel("(F_left - F_right) / peak mean force, %", fontsize=9)
     a2.set_xlabel("crank angle, deg (dotted: dead centres)")
@@ -895,7 +906,8 @@ def _write(out, results):
     a1.plot(x, t_planar / 1e3, color="0.5", lw=3, label="planar unit")
     a1.plot(x, rev.crank_torque / 1e3, "C0-", label="revolute as built")
     a1.plot(x, rat.crank_torque / 1e3, "C3--", label="rational as built")
-    a1.axhline(RATED_TORQUE / 1e3, color="C1", lw=1, label="rating 5600 kgf m")
+    rating = f"rating {RATED_TORQUE / 1e3:.1f} kN m (5600 kgf m)"
+    a1.axhline(RATED_TORQUE / 1e3, color="C1", lw=1, label=rating)
     a1.axhline(-RATED_TORQUE / 1e3, color="C1", lw=1)
     a1.set_ylabel("crank torque, kN m")
     a1.set_title(f"Crank torque with the counterbalance M = {cb.moment / 1e3:.1f} kN m")
@@ -910,11 +922,14 @@ def _write(out, results):
 
     # elastic moments (paper Figs. 5-7)
     fig, (a1, a2) = plt.subplots(2, 1, sharex=True, figsize=(7.5, 6.5), constrained_layout=True)
-    for side, c in (("left", "C0"), ("right", "C3")):
+    # the left pitman's curves wide and pale under the right's: where the two coincide
+    # (the bending moments), both stay visible
+    for side, c, lw, alpha in (("left", "C0", 4.0, 0.5), ("right", "C3", 1.4, 1.0)):
         e = rev.elastic[side]
-        a1.plot(x, e["torsion"], c + "-", label=f"{side} pitman")
-        a2.plot(x, e["bending_A"], c + "-", label=f"{side}, at the crank pin")
-        a2.plot(x, e["bending_B"], c + "--", label=f"{side}, at the equalizer")
+        kw = dict(lw=lw, alpha=alpha)
+        a1.plot(x, e["torsion"], c + "-", label=f"{side} pitman", **kw)
+        a2.plot(x, e["bending_A"], c + "-", label=f"{side}, at the crank pin", **kw)
+        a2.plot(x, e["bending_B"], c + "--", label=f"{side}, at the equalizer", **kw)
     a2.plot(x, np.abs(paper_force), "k:", label="paper (20): 3EJ sin(Δβ/2)/l² (N, a force)")
     a1.set_ylabel("twisting moment, N m")
     a2.set_ylabel("bending moment, N m")
@@ -934,6 +949,8 @@ def _write(out, results):
         ax.plot(cv["values"] * factor, 100 * cv["revolute"], "C0o-", ms=3, label="revolute")
         ax.plot(cv["values"] * factor, 100 * cv["spherical"], "C3s--", ms=3, label="rational")
         ax.axhline(100 * limit, color="C1", lw=1)
+        lo, hi = ax.get_ylim()
+        ax.set_ylim(lo, max(hi, 115 * limit))  # the limit line inside the frame
         t = tol_rev[name]["value"]
         if t is not None and t <= cv["values"][-1]:
             ax.axvline(t * factor, color="C0", lw=0.8, ls=":")
@@ -965,8 +982,15 @@ def _write(out, results):
     fig, axes = plt.subplots(1, len(design), figsize=(12, 4.2), constrained_layout=True)
     for ax, (name, d) in zip(np.atleast_1d(axes), design.items()):
         unit, factor = DISPLAY[name]
-        for i, fct in enumerate(factors):
-            ax.plot(widths, d["tolerance"][i] * factor, "o-", ms=3, label=f"J × {fct:g}")
+        for i, fct in enumerate(factors):  # told apart by marker and line style, not colour
+            ax.plot(
+                widths,
+                d["tolerance"][i] * factor,
+                marker="osD^v"[i % 5],
+                ls=LINESTYLES[i % len(LINESTYLES)],
+                ms=4,
+                label=f"J × {fct:g}",
+            )
         ax.set_xlabel("equalizer width = crank spacing, m")
         ax.set_ylabel(f"tolerance of the {name.replace('_', ' ')}, {unit}")
         ax.grid(True, alpha=0.4)
