@@ -276,8 +276,15 @@ class _Scene:
             np.array([self._xy(p, frame) for p in self.moving]) if self.moving else np.zeros((0, 2))
         )
         self.joints.set_data(xy[:, 0], xy[:, 1])
+        blocks = {sl.point: sl for sl, _ in self.blocks}
         for name, ann in self.labels:
-            ann.xy = self._xy(name, frame)
+            x, y = self._xy(name, frame)
+            sl = blocks.get(name)
+            if sl is not None:  # beyond the corner of its slider block, not on it
+                a = sk.slider_angle(sl, frame)
+                x += self.s * (1.25 * np.cos(a) - 0.75 * np.sin(a))
+                y += self.s * (1.25 * np.sin(a) + 0.75 * np.cos(a))
+            ann.xy = (x, y)
         return []
 
     def limits(self):
