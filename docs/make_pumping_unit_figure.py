@@ -39,12 +39,14 @@ def main(out=OUT):
             u.draw(t, ax=ax, color=c, alpha=0.9, labels=k == 0)
             ax.plot([], [], color=c, label=f"{lab}: {np.rad2deg(t):.1f} deg")
         ax.set_title(name)
-        ax.legend(fontsize=8, loc="lower left")
+        # beside the drawing, not over the crank
+        ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0), title="crank at")
         ax = axes[1, col]
         ax.plot(np.rad2deg(theta), ms.to_inch(u.torque_factor(theta)))
         ax.axhline(0, color="k", lw=0.6)
-        ax.axvline(np.rad2deg(bottom), color="C0", ls="--")
-        ax.axvline(np.rad2deg(top), color="C3", ls="--")
+        ax.axvline(np.rad2deg(bottom), color="#0072B2", ls="--", label="bottom dead centre")
+        ax.axvline(np.rad2deg(top), color="#D55E00", ls="--", label="top dead centre")
+        ax.legend(fontsize=8, loc="upper right" if col == 0 else "upper left")  # clear of the curve
         ax.set_xlabel("crank angle from 12 o'clock in the direction of rotation, deg")
         ax.set_ylabel("torque factor, in")
         ax.set_title(f"stroke {ms.to_inch(u.stroke):.2f} in, upstroke "
