@@ -489,12 +489,16 @@ def _write(out, o, phi, w, six, motions, six_forces, machines, cyc, ivp, su, syn
         fig, axes = plt.subplots(2, 1, figsize=(9, 7.5), sharex=True)
         f = cyc["six"]
         for k, j in enumerate(("O", "A", "B", "D", "K", "N")):
+            # the crank carries O's force to A almost unchanged: O wide and pale under A
+            wide = j == "O"
             axes[0].plot(
                 d,
                 f.result.magnitude(j) / 1e3,
                 color=PALETTE[(k + 1) % 8],
                 ls=LINESTYLES[k % len(LINESTYLES)],
-                label=f"joint {j}",
+                lw=4.0 if wide else 1.5,
+                alpha=0.45 if wide else 1.0,
+                label=f"joint {j}" + (" (under A)" if wide else ""),
             )
         axes[0].set_ylabel("joint force, kN")
         axes[0].set_title(
@@ -532,7 +536,10 @@ def _write(out, o, phi, w, six, motions, six_forces, machines, cyc, ivp, su, syn
             ls=LINESTYLES[3 % len(LINESTYLES)],
             label="five-link, circular arc",
         )
-        ax.plot(d, cyc["five"].guide, color="k", lw=0.8, label="five-link, involute")
+        # the involute's side load is zero all turn: a wide band on the zero line, named so
+        ax.plot(
+            d, cyc["five"].guide, color="k", lw=3.5, alpha=0.35, label="five-link, involute (0)"
+        )
         ax.set_ylabel("guide's normal force on the striker, N")
         ax.set_title(f"side load on the striker's guide at {o['speed_rpm']:g} rpm", fontsize=9)
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
