@@ -389,8 +389,10 @@ def _crank_axes(whole, zoomed):
     for ax in zoomed:
         ax.set_xlim(*ZOOM)
         ax.set_xticks(np.arange(-15, ZOOM[1] + 1e-9, 5))
-    whole[-1].set_xlabel(CW_LABEL)
-    zoomed[-1].set_xlabel("clockwise crank angle, deg")
+    for ax in whole:  # every panel says what its axis is (the rows are not shared)
+        ax.set_xlabel(CW_LABEL)
+    for ax in zoomed:
+        ax.set_xlabel("clockwise crank angle, deg")
 
 
 def _write(out, results, table, opt, phi, drive):
@@ -436,6 +438,7 @@ def _write(out, results, table, opt, phi, drive):
             row[1].set_title(f"the upsetting blow, {ZOOM[0]:g} to {ZOOM[1]:g} deg", fontsize=9)
             for ax in row:
                 ax.set_ylabel(f"reaction magnitude, {unit}")
+            row[0].legend(loc="upper left")
             row[1].legend(loc="upper left")
         e = results[masses[0]]
         for k, j in enumerate(("R43", "R50")):
