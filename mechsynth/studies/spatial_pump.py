@@ -937,8 +937,8 @@ def _write_all(out, results):
     a1.set_title("Pitman moments of the revolute drive as built")
     for a in (a1, a2):
         a.grid(True, alpha=0.4)
-        a.legend(fontsize=8)
         mark(a)
+        a.legend(fontsize=8)
     save(fig, "spatial_pump_elastic.png")
 
     # split against each deviation
