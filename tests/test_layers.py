@@ -1,6 +1,6 @@
-"""The layers depend only leftwards: kinematics <- dynamics <- objectives <- synthesis <- machines
-<- nomograms <- studies <- explore <- cli (docs/architecture.md). Checked on the source, including imports
-inside functions."""
+"""The layers depend only leftwards: kinematics <- dynamics <- objectives <- synthesis <-
+machines <- nomograms <- studies <- explore <- cli (docs/architecture.md). Checked on the source,
+including imports inside functions."""
 
 import ast
 from pathlib import Path
@@ -9,7 +9,14 @@ import pytest
 
 PACKAGE = Path(__file__).resolve().parents[1] / "mechsynth"
 ORDER = [
-    "kinematics", "dynamics", "objectives", "synthesis", "machines", "nomograms", "studies", "explore"
+    "kinematics",
+    "dynamics",
+    "objectives",
+    "synthesis",
+    "machines",
+    "nomograms",
+    "studies",
+    "explore",
 ]
 
 

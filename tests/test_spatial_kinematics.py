@@ -213,7 +213,7 @@ def test_shapes_and_large_deviations_end_in_one_named_error():
     """A flat list of spacings was a numpy broadcast error; deviations inside the documented
     limits but too large for the geometry were 'LinAlgError: Singular matrix'."""
     u = unit()
-    with pytest.raises(ms.MechanismError, match=r"crank_spacing has shape \(2,\): a batch of designs has a trailing axis"):
+    with pytest.raises(ms.MechanismError, match=r"crank_spacing has shape \(2,\): a batch of"):
         ms.SpatialPumpingUnit.from_planar(u, [1.1, 1.2]).motion(TH)
     with pytest.raises(ms.MechanismError, match="do not broadcast"):
         ms.SpatialPumpingUnit.from_planar(
