@@ -13,6 +13,7 @@ import math
 from collections import Counter
 
 import numpy as np
+from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import mechsynth as ms
@@ -84,3 +85,20 @@ def _assert_finite(target, out):
     if isinstance(out, tuple):
         for v in out:
             _assert_finite(target, v)
+
+
+def run(n, strategy, body):
+    """Draw ``n`` cases of ``strategy`` (deterministically) and call ``body(*case)`` on each."""
+
+    @settings(
+        max_examples=n,
+        deadline=None,
+        database=None,
+        derandomize=True,
+        suppress_health_check=list(HealthCheck),
+    )
+    @given(strategy)
+    def prop(args):
+        body(*args)
+
+    prop()

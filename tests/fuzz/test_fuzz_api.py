@@ -8,7 +8,7 @@ The quick run draws ``QUICK`` cases per property; ``pytest -m slow tests/fuzz`` 
 import numpy as np
 import pytest
 from hostile import FULL, QUICK, check, hostile, lengthish
-from hypothesis import HealthCheck, given, settings
+from hostile import run as _run
 from hypothesis import strategies as st
 
 import mechsynth as ms
@@ -21,19 +21,6 @@ from mechsynth.synthesis.problem_file import load_problem
 SIZES = [pytest.param(QUICK, id="quick"), pytest.param(FULL, id="full", marks=pytest.mark.slow)]
 
 
-def _run(n, strategy, body):
-    @settings(
-        max_examples=n,
-        deadline=None,
-        database=None,
-        derandomize=True,
-        suppress_health_check=list(HealthCheck),
-    )
-    @given(strategy)
-    def prop(args):
-        body(*args)
-
-    prop()
 
 
 @pytest.mark.parametrize("n", SIZES)

@@ -5,7 +5,7 @@ finite numbers or refuses with a MechanismError -- never another exception, neve
 import numpy as np
 import pytest
 from hostile import FULL, QUICK, check, hostile, lengthish
-from hypothesis import HealthCheck, given, settings
+from hostile import run as _run
 from hypothesis import strategies as st
 
 import mechsynth as ms
@@ -18,19 +18,6 @@ names = st.one_of(st.sampled_from(["A", "B", "O", "D", "K", "AB", ""]), hostile)
 branches = st.one_of(st.sampled_from([1, -1]), hostile)
 
 
-def _run(n, strategy, body):
-    @settings(
-        max_examples=n,
-        deadline=None,
-        database=None,
-        derandomize=True,
-        suppress_health_check=list(HealthCheck),
-    )
-    @given(strategy)
-    def prop(args):
-        body(*args)
-
-    prop()
 
 
 @pytest.mark.parametrize("n", SIZES)
