@@ -636,7 +636,6 @@ def _write_recommendations(out, theta, w, units, card, table, front_v, front_va)
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from .. import display
     from ..plotting import LINESTYLES, PALETTE, crank_axis, style
     from ..plotting import save as save_figure
 
@@ -663,46 +662,28 @@ def _write_recommendations(out, theta, w, units, card, table, front_v, front_va)
         fig.legend(handles, labels, loc="outside lower center", ncol=3)
         files.append(save_figure(fig, out / "beam_pump_pitman_force.png", dpi=110))
 
-        fig = front_v.plot(
-            title=f"Peak speed against pressure angle at {SPEED_SPM:g} SPM, same stroke and "
-            "beam (paper 000)"
+        fig = _front_with_variants(
+            front_v,
+            f"Peak speed against pressure angle at {SPEED_SPM:g} SPM, same stroke and beam "
+            "(paper 000)",
+            table,
+            lambda t: (np.deg2rad(t["max_pressure_angle_deg"]), "rad", t["peak_velocity"], "m/s"),
+            lambda name, t: f"paper 000: {names[name]}",
+            colours,
+            ncol=3,
         )
-        ax = fig.axes[0]
-        for name, t in table.items():
-            ax.plot(
-                display.convert(np.deg2rad(t["max_pressure_angle_deg"]), "rad")[0],
-                display.convert(t["peak_velocity"], "m/s")[0],
-                "D",
-                ms=8,
-                color=colours[name],
-                mec="k",
-                label=f"paper 000: {names[name]}",
-            )
-        for leg in fig.legends:
-            leg.remove()
-        ax.margins(0.1)
-        fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncol=3)
         files.append(save_figure(fig, out / "beam_pump_pareto_velocity.png", dpi=110))
-        fig = front_va.plot(
-            title=f"Peak speed against peak acceleration at {SPEED_SPM:g} SPM, pressure angle "
-            f"<= {PRESSURE_LIMIT_DEG:g} deg\n(paper 000, recommendation 1)"
+        fig = _front_with_variants(
+            front_va,
+            f"Peak speed against peak acceleration at {SPEED_SPM:g} SPM, pressure angle "
+            f"<= {PRESSURE_LIMIT_DEG:g} deg\n(paper 000, recommendation 1)",
+            table,
+            lambda t: (t["peak_acceleration"], "m/s^2", t["peak_velocity"], "m/s"),
+            lambda name, t: f"paper 000: {names[name]} (max pressure angle "
+            f"{t['max_pressure_angle_deg']:.0f} deg)",
+            colours,
+            ncol=2,
         )
-        ax = fig.axes[0]
-        for name, t in table.items():
-            ax.plot(
-                display.convert(t["peak_acceleration"], "m/s^2")[0],
-                display.convert(t["peak_velocity"], "m/s")[0],
-                "D",
-                ms=8,
-                color=colours[name],
-                mec="k",
-                label=f"paper 000: {names[name]} (max pressure angle "
-                f"{t['max_pressure_angle_deg']:.0f} deg)",
-            )
-        for leg in fig.legends:
-            leg.remove()
-        ax.margins(0.1)
-        fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncol=2)
         files.append(save_figure(fig, out / "beam_pump_speed_acceleration.png", dpi=110))
     front_v.to_csv(out / "beam_pump_pareto_velocity.csv")
     files.append(out / "beam_pump_pareto_velocity.csv")
@@ -870,25 +851,18 @@ def _write(out, theta, w, units, card, table, front, data, best_design=None):
         fig.legend(loc="outside lower center", ncol=4)
         save(fig, "beam_pump_pressure_angle.png")
 
-        fig = front.plot(
-            title=f"Pareto front at {SPEED_SPM:g} SPM, same stroke and beam "
-            "(paper 000, recommendation 2)"
+        fig = _front_with_variants(
+            front,
+            f"Pareto front at {SPEED_SPM:g} SPM, same stroke and beam (paper 000, "
+            "recommendation 2)",
+            table,
+            lambda t: (
+                np.deg2rad(t["max_pressure_angle_deg"]), "rad", t["peak_acceleration"], "m/s^2"
+            ),
+            lambda name, t: f"paper 000: {names[name]}",
+            colours,
+            ncol=3,
         )
-        ax = fig.axes[0]
-        for name, t in table.items():
-            ax.plot(
-                display.convert(np.deg2rad(t["max_pressure_angle_deg"]), "rad")[0],
-                display.convert(t["peak_acceleration"], "m/s^2")[0],
-                "D",
-                ms=8,
-                color=colours[name],
-                mec="k",
-                label=f"paper 000: {names[name]}",
-            )
-        for leg in fig.legends:
-            leg.remove()
-        ax.margins(0.1)
-        fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncol=3)
         save(fig, "beam_pump_pareto.png")
 
     headline = best_design if best_design is not None else units["2b"]
@@ -907,6 +881,31 @@ def _write(out, theta, w, units, card, table, front, data, best_design=None):
     write_text(out / "beam_pump.json", dumps(data) + "\n")
     files.append(out / "beam_pump.json")
     return files
+
+
+def _front_with_variants(front, title, table, xy, label, colours, ncol):
+    """A Pareto front's figure with the paper's variants marked on it: ``xy(t)`` gives ``(x, x
+    unit, y, y unit)`` of a variant's row ``t`` (SI), ``label(name, t)`` its legend entry."""
+    from .. import display
+
+    fig = front.plot(title=title)
+    ax = fig.axes[0]
+    for name, t in table.items():
+        x, xu, y, yu = xy(t)
+        ax.plot(
+            display.convert(x, xu)[0],
+            display.convert(y, yu)[0],
+            "D",
+            ms=8,
+            color=colours[name],
+            mec="k",
+            label=label(name, t),
+        )
+    for leg in fig.legends:
+        leg.remove()
+    ax.margins(0.1)
+    fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncol=ncol)
+    return fig
 
 
 # ------------------------------------------------------------------------------ coverage
