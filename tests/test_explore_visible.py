@@ -282,8 +282,12 @@ def test_the_layout_fits_and_every_control_has_a_name(browser, server, size):
         for role, name in (("button", "Play"), ("button", "Reverse"), ("button", "Optimize")):
             b = pg.get_by_role(role, name=name).bounding_box()
             assert b["x"] >= 0 and b["x"] + b["width"] <= width, (name, b)
-        canvas = pg.locator(".bk-Canvas").first.bounding_box()
-        assert canvas["x"] >= 0 and canvas["x"] + canvas["width"] <= width + 0.5
+        canvas = pg.evaluate(
+            "() => { const f = Bokeh.documents[0].get_model_by_name('drawing');"
+            " const r = Bokeh.index.find_one(f).canvas_view.el.getBoundingClientRect();"
+            " return [r.left, r.right]; }"
+        )
+        assert canvas[0] >= 0 and canvas[1] <= width + 0.5
         _shown_fits(pg)
         # accessible names: every input, select and slider handle is named
         unnamed = pg.evaluate(

@@ -129,7 +129,8 @@ def frames(state: State, design, n: int = FRAMES, trace=()) -> tuple[dict, dict]
         "vscale": vscale,
         "ascale": ascale,
         "block": block,
-        "extent": [x0, x1, y0, y1],
+        # what the view must hold: the points, and the blocks drawn around them
+        "extent": [x0 - block, x1 + block, y0 - block, y1 + block],
         "input_label": label,
         "input_unit": unit,
         "periodic": periodic,
@@ -265,9 +266,8 @@ function stop() {
   mx.playing = false;
   draw(mx.pos);
   play.setv({label: 'Play'});
-  mx.internal = true;
-  frame.setv({value: Math.round(mx.pos) % (meta() || {n: 1}).n});  // the server's frame
-  mx.internal = false;
+  mx.expect = Math.round(mx.pos) % (meta() || {n: 1}).n;
+  frame.setv({value: mx.expect});  // the server's frame
 }
 if (what === 'meta') {
   const M = meta();
@@ -276,7 +276,8 @@ if (what === 'meta') {
     draw(Math.min(mx.pos, M.n - 1)); fit(Boolean(S.meta.data.force[0]));
   }
 } else if (what === 'frame') {
-  if (!mx.internal) { if (mx.playing) stop(); draw(frame.value); }
+  if (frame.value === mx.expect) { mx.expect = null; }
+  else { if (mx.playing) stop(); draw(frame.value); }
 } else if (what === 'play') {
   if (mx.playing) { stop(); } else {
     mx.playing = true; mx.last = undefined; mx.frames_played = 0;
@@ -286,8 +287,11 @@ if (what === 'meta') {
 } else if (what === 'back' || what === 'fwd') {
   if (mx.playing) stop();
   const M = meta(), step = M ? M.n / 72 : 1;
-  draw(Math.round(mx.pos + (what === 'fwd' ? step : -step)));
-  frame.setv({value: Math.round(mx.pos) % M.n});
+  draw(mx.pos + (what === 'fwd' ? step : -step));  // 5 degrees, or 1/72 of a travel
+  // the slider (and the server) follow; the drawing is already there (callbacks run
+  // later, so the slider's own callback is told by the value it will see)
+  mx.expect = Math.round(mx.pos) % M.n;
+  frame.setv({value: mx.expect});
 } else if (what === 'reverse') {
   mx.dir = -mx.dir;
 } else if (what === 'vectors') {

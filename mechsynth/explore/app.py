@@ -66,6 +66,7 @@ _POOL = ThreadPoolExecutor(max_workers=2, thread_name_prefix="mechsynth-explore"
 _WARM: dict[str, object] = {}  # kind key -> the future of its warm-up sweep (one per process)
 _WARM_LOCK = threading.Lock()
 CHART_ANGLES = 180  # crank angles per design in a chart sweep
+MIN_ROWS = 24  # dimension rows made with the page (the impact machine has 13 dimensions)
 
 
 def warm(state: State):
@@ -140,6 +141,7 @@ class Explorer:
         self._fit_next = True
         self._reaped = []
         self._rows, self._row_dims = [], []
+        self._busy_note = ("", 0.0)
         self._targets = None  # target poses (SI rows x, y, angle) shown on the drawing
         self._synth = None  # the running motion-generation search (a future)
         self._candidates = []
@@ -340,7 +342,9 @@ class Explorer:
         )  # fmt: skip
 
         def js(what):
-            return CustomJS(args=args, code=f"const what = {what!r};\n" + PLAYER_JS + A11Y_JS)
+            # the accessible names are given where the page's widgets may have changed
+            a11y = A11Y_JS if what in ("meta", "resize") else ""
+            return CustomJS(args=args, code=f"const what = {what!r};\n" + PLAYER_JS + a11y)
 
         self.src_meta.js_on_change("data", js("meta"))
         self.frame.js_on_change("value", js("frame"))
@@ -516,13 +520,10 @@ class Explorer:
         # rows are reused across mechanisms, and Panel does not pass a change of css classes on
         # to the page: a row's parts are found by their labels (and a message by its markup)
         head = pn.Column(field, slider, margin=0)
+        # the widgets are shown and hidden one by one: Panel does not pass a change of a
+        # served layout's own visibility on to the page
         layout = pn.Column(
-            head,
-            pn.Row(vary, lo_in, hi_in, margin=(-4, 5, 0, 5)),
-            msg,
-            margin=(0, 0, 6, 0),
-            styles={"border-bottom": "1px solid #ddd"},
-            visible=False,
+            head, pn.Row(vary, lo_in, hi_in, margin=(-4, 5, 6, 5)), msg, margin=0
         )
         return dict(
             slider=slider, field=field, vary=vary, lo=lo_in, hi=hi_in, msg=msg, head=head,
@@ -535,7 +536,10 @@ class Explorer:
         self._building = True
         try:
             dims = st.kind.dims
-            while len(self._rows) < len(dims):
+            # every row the page may need is made before the page is first sent: Panel does
+            # not pass rows added to a served layout on to the browser
+            want = max(len(dims), MIN_ROWS) if not self._rows else len(dims)
+            while len(self._rows) < want:
                 self._rows.append(self._dim_row(len(self._rows)))
                 self.dims_col.append(self._rows[-1]["layout"])
             self.dim_widgets, self.dim_fields = {}, {}
@@ -563,11 +567,15 @@ class Explorer:
                 _set_label(hi_in, f"{d.name} upper bound")
                 hi_in.value = _text(st.shown(vhi, d.unit))
                 msg.param.update(object="", visible=False)
-                row_["layout"].visible = True
+                for w in (slider, field, vary, lo_in, hi_in):
+                    w.visible = True
                 self.dim_widgets[d.name] = (slider, vary, lo_in, hi_in, msg)
                 self.dim_fields[d.name] = field
             for row_ in self._rows[len(dims):]:
-                row_["layout"].visible = False
+                for key in ("slider", "field", "vary", "lo", "hi", "msg"):
+                    row_[key].visible = False
+                for key in ("slider", "field", "vary", "lo", "hi"):
+                    _set_label(row_[key], "unused")  # no hidden field answers to a name
             label, speed = st.speed_field()
             _set_label(self.speed_input, label)
             _set_label(
@@ -1069,6 +1077,7 @@ class Explorer:
     # ------------------------------------------------------------------ optimize
     def _busy(self, what) -> bool:
         if self._proc is not None:
+            self._busy_note = (f"cancel the solve to {what}", time.perf_counter())
             self.opt_status.object = (
                 f"<span id='opt-state' style='color:#b00'>solving: cancel the solve to "
                 f"{what}</span>"
@@ -1163,8 +1172,12 @@ class Explorer:
                         f"{_escape(msg[1])}</span>"
                     )
             if self._proc is not None:  # the elapsed time moves even between messages
+                note, since = self._busy_note
+                note = note if time.perf_counter() - since < 10 else ""
                 self.opt_status.object = (
-                    f"<span id='opt-state'>solving: {self._stage} ({elapsed:.0f} s)</span>"
+                    f"<span id='opt-state'>solving: {self._stage} ({elapsed:.0f} s)"
+                    + (f"<br><span style='color:#b00'>{note}</span>" if note else "")
+                    + "</span>"
                 )
             if (
                 self._proc is not None
@@ -1585,14 +1598,16 @@ class Explorer:
             pn.pane.Bokeh(self.fig, sizing_mode="stretch_width"),
             player,
             pn.FlexBox(
+                self.trace_select,
                 pn.Column(
-                    self.trace_select,
                     self.stats,
                     pn.pane.HTML("<b>Problem measures</b> (green: holds, red: violated)"),
                     self.checks_pane,
                 ),
-                *[pn.pane.Bokeh(cf) for cf in self.curve_figs],
             ),
+            # one under the other: a row of them would widen the page past a phone's screen,
+            # and a wrapping box draws them with no room inside their frames
+            pn.Column(*[pn.pane.Bokeh(cf) for cf in self.curve_figs], css_classes=["curves"]),
             sizing_mode="stretch_width",
         )
         problem_tab = pn.Column(
