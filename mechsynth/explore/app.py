@@ -66,7 +66,7 @@ _POOL = ThreadPoolExecutor(max_workers=2, thread_name_prefix="mechsynth-explore"
 _WARM: dict[str, object] = {}  # kind key -> the future of its warm-up sweep (one per process)
 _WARM_LOCK = threading.Lock()
 CHART_ANGLES = 180  # crank angles per design in a chart sweep
-MIN_ROWS = 24  # dimension rows made with the page (the impact machine has 13 dimensions)
+MIN_ROWS = 16  # dimension rows made with the page (the six-link has 14 dimensions)
 
 
 def warm(state: State):
