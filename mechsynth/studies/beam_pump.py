@@ -605,26 +605,12 @@ def _recommendation_lines(pitman, rec1, front_v, table, front_va):
         "Pareto front of recommendation 1's two objectives (pressure angle <= 30 deg; "
         "* non-dominated): acceleration bound m/s^2 -> peak |a| m/s^2, peak |v| m/s"
     )
-    for i, r in enumerate(front_va.results):
-        if front_va.success[i]:
-            lines.append(
-                f"  {front_va.eps[i]:.5f} -> {front_va.second[i]:.5f}, {front_va.first[i]:.5f}"
-                f"{' *' if front_va.nondominated[i] else ''}"
-            )
-        else:
-            lines.append(f"  {front_va.eps[i]:.5f} -> {r.status}")
+    lines += _front_lines(front_va, degrees=False)
     lines.append(
         "Pareto front of the peak speed against the max pressure angle (recommendation 2 for "
         "the speed; * non-dominated): bound deg -> max pressure angle deg, peak |v| m/s"
     )
-    for i, r in enumerate(front_v.results):
-        if front_v.success[i]:
-            lines.append(
-                f"  {np.rad2deg(front_v.eps[i]):6.2f} -> {np.rad2deg(front_v.second[i]):6.2f}, "
-                f"{front_v.first[i]:.5f}{' *' if front_v.nondominated[i] else ''}"
-            )
-        else:
-            lines.append(f"  {np.rad2deg(front_v.eps[i]):6.2f} -> {r.status}")
+    lines += _front_lines(front_v)
     return lines
 
 
@@ -742,14 +728,7 @@ def _summary(base, fit, table, printed, findings, best, best_design, front):
         "Pareto front (epsilon-constraint on the pressure angle; * non-dominated): "
         "bound deg -> max pressure angle deg, peak |a| m/s^2"
     )
-    for i, r in enumerate(front.results):
-        if front.success[i]:
-            lines.append(
-                f"  {np.rad2deg(front.eps[i]):6.2f} -> {np.rad2deg(front.second[i]):6.2f}, "
-                f"{front.first[i]:.5f}{' *' if front.nondominated[i] else ''}"
-            )
-        else:
-            lines.append(f"  {np.rad2deg(front.eps[i]):6.2f} -> {r.status}")
+    lines += _front_lines(front)
     return "\n".join(lines)
 
 
@@ -881,6 +860,22 @@ def _write(out, theta, w, units, card, table, front, data, best_design=None):
     write_text(out / "beam_pump.json", dumps(data) + "\n")
     files.append(out / "beam_pump.json")
     return files
+
+
+def _front_lines(front, degrees=True):
+    """One line per point of a Pareto front: ``bound -> second, first`` (``*``: non-dominated);
+    the bound and the second measure in degrees when they are angles, else as they are."""
+
+    def shown(v):
+        return f"{np.rad2deg(v):6.2f}" if degrees else f"{v:.5f}"
+
+    return [
+        f"  {shown(front.eps[i])} -> {shown(front.second[i])}, {front.first[i]:.5f}"
+        + (" *" if front.nondominated[i] else "")
+        if front.success[i]
+        else f"  {shown(front.eps[i])} -> {r.status}"
+        for i, r in enumerate(front.results)
+    ]
 
 
 def _front_with_variants(front, title, table, xy, label, colours, ncol):
