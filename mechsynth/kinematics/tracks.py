@@ -142,11 +142,36 @@ class PointTrack:
 @dataclass(frozen=True)
 class LinkTrack:
     """Angle of a link from +x (rad, counter-clockwise), angular velocity (rad/s), acceleration
-    (rad/s^2). Analogs (rad/rad, rad/rad^2) when the motion was asked without a speed."""
+    (rad/s^2). Analogs (rad/rad, rad/rad^2) when the motion was asked without a speed.
+
+    ``angle`` is the angle as computed, in (-pi, pi]: a link swinging through the -x direction
+    jumps by 2 pi there, so ``np.ptp(angle)`` is no swing. :attr:`unwrapped_angle` and
+    :attr:`swing` follow the link along the cycle instead.
+    """
 
     angle: Any
     omega: Any
     epsilon: Any
+
+    @property
+    def unwrapped_angle(self) -> np.ndarray:
+        """The angle (rad) made continuous along the cycle (the last axis, the crank angles):
+        ``np.unwrap`` removes the 2 pi jumps where the link passes through the -x direction.
+        Raises MechanismError for symbolic (CasADi) angles."""
+        if type(self.angle).__module__.partition(".")[0] == "casadi":  # asarray makes NaN
+            raise MechanismError(
+                "unwrapped_angle and swing need numeric angles (a motion evaluated in numpy), "
+                f"not a CasADi {type(self.angle).__name__}"
+            )
+        angle = np.asarray(self.angle, dtype=float)
+        return np.unwrap(angle, axis=-1) if angle.ndim else angle
+
+    @property
+    def swing(self):
+        """The link's swing over the cycle (rad): the range of :attr:`unwrapped_angle` along the
+        crank angles (one value per design); a full turn when the link revolves. The crank
+        angles must sample the cycle finely enough (steps well under pi) to follow the link."""
+        return np.ptp(self.unwrapped_angle, axis=-1)
 
     #: ``LinkTrack.of(angle, omega, epsilon)``: ``LinkTrack(angle, omega, epsilon)``, quicker
     #: (see :func:`_point_track`)
