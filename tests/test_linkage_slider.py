@@ -164,13 +164,13 @@ def test_casadi_derivatives_of_a_slider_driven_linkage_equal_differences():
     x = ca.SX.sym("x", len(names))
     s = np.linspace(0.0, 0.1, 7)
     m = lk(**{n: x[i] for i, n in enumerate(names)}).motion(ca.DM(s), speed=0.3)
-    out = ca.vertcat(m.links["DB"].epsilon, m.transmission_angles["B"])
+    out = ca.vertcat(m.links["DB"].epsilon, m.raw_transmission_angles["B"])
     J = np.asarray(ca.Function("j", [x], [ca.jacobian(out, x)])([lk.parameters[n] for n in names]))
     x0 = np.array([lk.parameters[n] for n in names])
 
     def f(v):
         mm = lk(**dict(zip(names, v))).motion(s, speed=0.3)
-        return np.concatenate([mm.links["DB"].epsilon, mm.transmission_angles["B"]])
+        return np.concatenate([mm.links["DB"].epsilon, mm.raw_transmission_angles["B"]])
 
     for i in range(len(names)):
         e = np.zeros(len(names))

@@ -80,7 +80,7 @@ def test_transmission_angle_is_the_angle_between_the_links():
     fb = ms.FourBar(1.0, 4.3, 3.0, 5.2)
     m = fb.motion(ms.cycle(360))
     t1, t2 = m.links["coupler"].angle, m.links["rocker"].angle
-    mu = m.transmission_angle
+    mu = m.raw_transmission_angle
     np.testing.assert_allclose(mu, np.arccos(np.cos(t1 - t2)), atol=1e-12)
     # directly from the link vectors A -> B and O2 -> B
     a, b = m.points["A"], m.points["B"]
@@ -89,6 +89,14 @@ def test_transmission_angle_is_the_angle_between_the_links():
     cos = np.sum(u * v, axis=0) / (fb.coupler * fb.rocker)
     np.testing.assert_allclose(np.cos(mu), cos, atol=1e-12)
     np.testing.assert_allclose(m.pressure_angle, np.abs(np.pi / 2 - mu), atol=0)
+    # the design quantity is the raw angle folded into [0, 90] deg, obtuse angles counted as
+    # their supplement; this four-bar's raw angle is obtuse over part of the cycle
+    assert mu.max() > np.pi / 2 > mu.min()
+    np.testing.assert_array_equal(m.transmission_angle, np.minimum(mu, np.pi - mu))
+    assert m.transmission_angle.max() <= np.pi / 2
+    assert m.transmission_angle.min() == pytest.approx(
+        float(ms.objectives.min_transmission_angle().from_motion(fb, m)), abs=1e-12
+    )
 
 
 @pytest.mark.parametrize("bad", [0.0, -1.0, float("nan"), float("inf"), 1e101])

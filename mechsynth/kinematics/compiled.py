@@ -711,5 +711,5 @@ def batch_motion(mechanism, phi, speed=None, workspace: BatchWorkspace | None = 
         links=links,
         pressure_angle=pressure,
         sliders=sliders,
-        transmission_angle=transmission,
+        raw_transmission_angle=transmission,
     )

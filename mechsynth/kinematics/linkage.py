@@ -1134,10 +1134,10 @@ class Linkage(Drawable):
             links=links,
             pressure_angle=pressure,
             sliders=sliders,
-            transmission_angle=transmission,
+            raw_transmission_angle=transmission,
             extra=extra,
             pressure_angles=dict(st.pressure),
-            transmission_angles=dict(st.transmission),
+            raw_transmission_angles=dict(st.transmission),
         )
 
     def _input_words(self) -> str:

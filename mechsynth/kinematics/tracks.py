@@ -62,6 +62,11 @@ def to_time(jet: Jet, omega, epsilon):
 _new = object.__new__
 
 
+def _fold(mu):
+    """A raw transmission angle in [0, pi] folded into [0, pi/2] (the supplement when obtuse)."""
+    return ops.fmin(mu, np.pi - mu)
+
+
 def _point_track(x, y, vx, vy, ax, ay):
     """``PointTrack(x, y, vx, vy, ax, ay)`` without the frozen dataclass's ``__init__``, which
     sets each field through its own ``object.__setattr__`` call (a motion builds a track per
@@ -208,11 +213,17 @@ class Motion:
     sliders : named :class:`SliderTrack` objects; the main one is also ``motion.slider``.
     pressure_angle : angle (rad, in [0, pi/2]) between the force a driving link transmits to the
         output and the output's velocity, at every angle.
-    transmission_angle : angle (rad) between the coupler (rod) and the output link, if defined.
+    transmission_angle : the transmission angle (rad, in [0, pi/2]), the design quantity: the
+        angle between the coupler (rod) and the output link counted as its supplement when
+        obtuse, so ``pi/2 - transmission_angle`` is the deviation from the ideal 90 deg; None
+        if the mechanism defines none. A property of ``raw_transmission_angle``.
+    raw_transmission_angle : the angle (rad, in [0, pi]) between the coupler (rod) and the
+        output link as drawn, not folded: its sign of ``pi/2 - angle`` tells the assembly.
     extra : other named per-angle quantities of a particular mechanism.
-    pressure_angles, transmission_angles : per group of a general linkage (named by the group),
-        the pressure and transmission angles (rad); empty for the named mechanisms, whose
-        ``pressure_angle`` is their one output's.
+    pressure_angles, transmission_angles, raw_transmission_angles : per group of a general
+        linkage (named by the group), the pressure angles and the (folded) and raw transmission
+        angles (rad), as above; empty for the named mechanisms, whose ``pressure_angle`` is
+        their one output's.
     """
 
     phi: Any
@@ -222,19 +233,32 @@ class Motion:
     links: dict[str, LinkTrack]
     pressure_angle: Any
     sliders: dict[str, SliderTrack] = field(default_factory=dict)
-    transmission_angle: Any = None
+    raw_transmission_angle: Any = None
     extra: dict[str, Any] = field(default_factory=dict)
     pressure_angles: dict[str, Any] = field(default_factory=dict)
-    transmission_angles: dict[str, Any] = field(default_factory=dict)
+    raw_transmission_angles: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def transmission_angle(self):
+        """The transmission angle (rad, in [0, pi/2]): the raw angle folded, ``pi - mu`` for
+        an obtuse ``mu`` (numpy arrays and CasADi expressions alike); None if undefined."""
+        mu = self.raw_transmission_angle
+        return None if mu is None else _fold(mu)
+
+    @property
+    def transmission_angles(self) -> dict[str, Any]:
+        """Per group, the transmission angle folded into [0, pi/2] (rad), as
+        :attr:`transmission_angle`."""
+        return {k: _fold(v) for k, v in self.raw_transmission_angles.items()}
 
     @classmethod
     def from_jets(
-        cls, phi, omega, epsilon, points, links, sliders, pressure_angle, transmission_angle
+        cls, phi, omega, epsilon, points, links, sliders, pressure_angle, raw_transmission_angle
     ) -> Motion:
         """The motion of named jets (``points``: :class:`PointJet`, ``links`` and ``sliders``:
         :class:`Jet`; a track given instead of a jet is taken as it is, e.g. a frame pivot's or
         the crank's) at the crank speed ``omega`` and acceleration ``epsilon``, with empty
-        ``extra``, ``pressure_angles`` and ``transmission_angles``: where the named mechanisms'
+        ``extra``, ``pressure_angles`` and ``raw_transmission_angles``: where the named mechanisms'
         motions end. The three dicts become the motion's own: their jets are replaced by
         tracks in place. Built without the frozen dataclasses' ``__init__`` (see
         :func:`_point_track`)."""
@@ -271,8 +295,8 @@ class Motion:
         d = m.__dict__
         d["phi"], d["omega"], d["epsilon"] = phi, omega, epsilon
         d["points"], d["links"], d["pressure_angle"] = points, links, pressure_angle
-        d["sliders"], d["transmission_angle"] = sliders, transmission_angle
-        d["extra"], d["pressure_angles"], d["transmission_angles"] = {}, {}, {}
+        d["sliders"], d["raw_transmission_angle"] = sliders, raw_transmission_angle
+        d["extra"], d["pressure_angles"], d["raw_transmission_angles"] = {}, {}, {}
         return m
 
     @property
@@ -333,8 +357,9 @@ class Motion:
                 (f"link {name} epsilon", e, arr(lk.epsilon)),
             ]
         cols.append(("pressure angle", "rad", arr(self.pressure_angle)))
-        if self.transmission_angle is not None:
+        if self.raw_transmission_angle is not None:
             cols.append(("transmission angle", "rad", arr(self.transmission_angle)))
+            cols.append(("raw transmission angle", "rad", arr(self.raw_transmission_angle)))
         for name, val in self.extra.items():
             if np.shape(val) == np.shape(self.phi):
                 cols.append((name, self.extra_units.get(name, ""), arr(val)))
@@ -455,4 +480,3 @@ class Motion:
             speed = speed_text(self.omega)
         axes[0].set_title(title or f"motion of {', '.join(quantities)}: {speed}")
         return fig
-

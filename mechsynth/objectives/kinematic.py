@@ -219,11 +219,11 @@ def peak_angular_acceleration(link="rocker") -> CycleMeasure:
 # ------------------------------------------------------------------------------ angles
 def _group_angle(motion, group, table, what):
     if group is None:
-        value = motion.pressure_angle if table == "pressure" else motion.transmission_angle
+        value = motion.pressure_angle if table == "pressure" else motion.raw_transmission_angle
         if value is None:
             raise UsageError(f"this mechanism defines no {what}")
         return value
-    angles = motion.pressure_angles if table == "pressure" else motion.transmission_angles
+    angles = motion.pressure_angles if table == "pressure" else motion.raw_transmission_angles
     if group not in angles:
         known = ", ".join(angles) or "none (name no group for a named mechanism)"
         raise UsageError(f"no {what} of group {group!r}; groups with one: {known}")

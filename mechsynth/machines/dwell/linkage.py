@@ -149,7 +149,7 @@ class DwellSliderCrank(Mechanism):
             },
             sliders=sliders,
             pressure_angle=pressure,
-            transmission_angle=np.pi / 2 - pressure,
+            raw_transmission_angle=np.pi / 2 - pressure,
         )
 
     def sketch(self, phi):

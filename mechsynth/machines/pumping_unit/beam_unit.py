@@ -233,7 +233,7 @@ class BeamPumpingUnit(Mechanism):
         G=None,
         unit_class="conventional",
         rotation="cw",
-        units="m",
+        units=None,
     ):
         """A unit from its API Spec 11E geometry.
 
@@ -249,9 +249,21 @@ class BeamPumpingUnit(Mechanism):
         unit_class : ``"conventional"`` (crankshaft behind the centre bearing) or ``"mark-ii"``
             (crankshaft in front of it, toward the well).
         rotation : ``"cw"`` or ``"ccw"``, seen with the well to the right.
-        units : ``"m"`` or ``"in"`` for all lengths.
+        units : ``"m"`` or ``"in"``, the unit of all lengths; required: API 11E tables give
+            inches, and a default would read them as metres (a unit 39 times too large).
+
+        Raises
+        ------
+        MechanismError
+            ``units`` missing or not ``"m"``/``"in"``; a length not positive; neither ``K``
+            nor both heights; a crankshaft not below the centre bearing.
         """
-        scale = {"m": 1.0, "in": 0.0254}.get(units)
+        if units is None:
+            raise MechanismError(
+                "from_api: units is required, 'in' (the inches of API Spec 11E tables) or 'm': "
+                "the unit of A, C, I, P, R, K, H and G"
+            )
+        scale = {"m": 1.0, "in": 0.0254}.get(units) if isinstance(units, str) else None
         if scale is None:
             raise MechanismError(f"units must be 'm' or 'in', got {units!r}")
         A, C, I, P, R = (check_length(n, v) for n, v in zip("ACIPR", (A, C, I, P, R)))  # noqa: E741
@@ -507,7 +519,7 @@ class BeamPumpingUnit(Mechanism):
             },
             sliders={"polished_rod": SliderTrack.from_jet(pr, omega, eps)},
             pressure_angle=ops.fabs(np.pi / 2.0 - mu),
-            transmission_angle=mu,
+            raw_transmission_angle=mu,
             extra={"torque_factor": pr.d1, "acceleration_analog": pr.d2},
         )
 
