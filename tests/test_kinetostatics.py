@@ -126,3 +126,91 @@ def test_casadi_geometry_slider_crank():
     np.testing.assert_allclose(
         jac, (torque(0.08 + h) - torque(0.08 - h)) / (2 * h), rtol=1e-5, atol=1e-4
     )
+
+
+def _block_case(pattern_dense, k, rng):
+    """A random k x k block with the given constant entries (a dict), the others random."""
+    A = rng.normal(size=(k, k)) + 3.0 * np.eye(k)
+    pattern = []
+    for i in range(k):
+        for j in range(k):
+            if (i, j) in pattern_dense:
+                A[i, j] = pattern_dense[i, j]
+                if A[i, j] != 0.0:
+                    pattern.append((i, j, float(A[i, j])))
+            else:
+                pattern.append((i, j, None))
+    return A, tuple(pattern)
+
+
+@pytest.mark.parametrize(
+    "constants",
+    [
+        {},  # no constant pivot: casadi.solve (QR beyond 3 x 3)
+        # a revolute dyad's force rows: unit entries, and the zeros between them
+        {
+            (0, 0): 1.0,
+            (0, 1): 0.0,
+            (0, 2): -1.0,
+            (0, 3): 0.0,
+            (1, 0): 0.0,
+            (1, 1): 1.0,
+            (1, 2): 0.0,
+            (1, 3): -1.0,
+        },
+        # a near-zero constant is no pivot
+        {(0, 0): 1e-17},
+    ],
+)
+def test_block_elimination_equals_a_dense_solve(constants):
+    """Each block of the symbolic kinetostatics is an elimination written once (constant pivots
+    first, ``casadi.solve`` for the rest); over random entries it equals numpy's solve."""
+    from mechsynth.dynamics.kinetostatics import _block_function
+
+    rng = np.random.default_rng(7)
+    for k in (2, 5, 6):
+        A, pattern = _block_case({kv: v for kv, v in constants.items() if max(kv) < k}, k, rng)
+        b = rng.normal(size=k)
+        fn = _block_function(pattern, k)
+        inputs = [A[i, j] for i, j, v in pattern if v is None] + list(b)
+        got = np.asarray(fn(inputs), dtype=float).ravel()
+        np.testing.assert_allclose(got, np.linalg.solve(A, b), rtol=1e-10, atol=1e-12)
+
+
+def test_symbolic_forces_with_a_guide_equal_the_numeric_ones_and_their_differences():
+    """A slider-crank with offset, gravity and a load: the symbolic solve (dimensions as
+    CasADi symbols) equals the numeric one to 1e-10 at every angle, and its exact derivative
+    in the crank equals central differences."""
+    import casadi as ca
+
+    phi = ms.cycle(36)
+    model = slider_crank_model(
+        LinkInertia("crank", "O", 2.0, (0.01, 0.0), 0.01),
+        LinkInertia("rod", "A", 1.5, (0.1, 0.02), 0.02),
+        LinkInertia(None, "B", 3.0),
+        loads=[Gravity(), PointForce("slider", "B", lambda m: (-200.0, 0.0))],
+    )
+
+    def forces(crank, offset):
+        sc = ms.SliderCrank(crank=crank, rod=0.3, offset=offset)
+        res = kinetostatics(model, sc.motion(phi, speed=20.0, epsilon=5.0))
+        out = [res.torque] + [
+            res.reactions[j][k] for j in ("R10", "R21", "R32", "R30") for k in (0, 1)
+        ]
+        return out
+
+    x = ca.SX.sym("x", 2)
+    sym = forces(x[0], x[1])
+    fn = ca.Function("f", [x], [ca.horzcat(*sym)])
+    jac = ca.Function("j", [x], [ca.jacobian(ca.vec(ca.horzcat(*sym)), x)])
+    x0 = (0.08, 0.03)
+    want = np.column_stack([np.broadcast_to(v, phi.shape) for v in forces(*x0)])
+    got = np.asarray(fn(x0))
+    assert np.max(np.abs(got - want)) <= 1e-10 * np.max(np.abs(want))
+    h = 1e-6
+    fd = (
+        np.column_stack([np.broadcast_to(v, phi.shape) for v in forces(x0[0] + h, x0[1])])
+        - np.column_stack([np.broadcast_to(v, phi.shape) for v in forces(x0[0] - h, x0[1])])
+    ) / (2 * h)
+    exact = np.asarray(jac(x0))[:, 0].reshape(fd.shape, order="F")
+    np.testing.assert_allclose(exact, fd, rtol=1e-5, atol=1e-5 * np.max(np.abs(fd)))

@@ -383,91 +383,147 @@ def _blocks(A, n):
     return [(rp[rb[k] : rb[k + 1]], cp[cb[k] : cb[k + 1]]) for k in range(nb)]
 
 
-def _cramer(entries, rows, cols, rhs):
-    """Unknowns ``cols`` of the square block ``rows`` by Cramer's rule.
+#: pivots of the symbolic elimination: constant entries at least this large (a unit vector's
+#: component of 6e-17 is a zero written by rounding, not a pivot)
+_PIVOT_MIN = 1e-9
 
-    Determinants by expansion along the rows over the block's nonzeros, each minor built once
-    (memoized by its column set; minors without the replaced column are shared by every
-    unknown): exact, branch-free expressions whose size follows the block's sparsity, where a
-    symbolic factorization of the whole system is dense and some ten times larger."""
-    k = len(rows)
-    nz = [[(c, entries[r, c]) for c in cols if (r, c) in entries] for r in rows]
-    memo = {}
 
-    def det(i, columns, col=None):
-        if i == k:
-            return 1.0
-        key = (columns, col if col in columns else None)
-        if key in memo:
-            return memo[key]
-        order = sorted(columns)
-        terms = nz[i]
-        if col in columns:
-            terms = [(c, v) for c, v in terms if c != col] + [(col, rhs[i])]
-        total = 0.0
-        for c, v in terms:
-            if c not in columns:
-                continue
-            minor = det(i + 1, columns - {c}, col)
-            if isinstance(minor, float) and minor == 0.0:
-                continue
-            total = total - v * minor if order.index(c) % 2 else total + v * minor
-        memo[key] = total
-        return total
+def _block_function(pattern, k):
+    """A CasADi Function of one ``k x k`` block of the equilibrium system: its varying entries
+    and right-hand sides in, its unknowns out (scalars; :func:`_solve_symbolic` maps it over the
+    angles).
 
-    full = frozenset(cols)
-    d = det(0, full)
-    return [det(0, full, c) / d for c in cols]
+    ``pattern``: ``((i, j, value), ...)`` over the block's nonzeros in local indices, ``value``
+    the number of an entry that is the same at every angle (the unit components of a revolute
+    joint's reaction), else None (an input, in this order, then the ``k`` right-hand sides).
+    Gaussian elimination pivots first on the constant entries (exact and never zero: the force
+    rows of every revolute joint), the sparsest row and column first; the Schur complement that
+    remains (the moment rows: two for a dyad) is solved by ``casadi.solve`` (minors up to
+    3 x 3, a QR factorization beyond). No determinant is expanded: the expression grows with the
+    block's size, not factorially."""
+    import casadi as ca
+
+    inputs, M = [], {}
+    for i, j, value in pattern:
+        if value is None:
+            M[i, j] = ca.SX.sym(f"a{i}_{j}")
+            inputs.append(M[i, j])
+        else:
+            M[i, j] = value
+    b = {i: ca.SX.sym(f"b{i}") for i in range(k)}
+    inputs += [b[i] for i in range(k)]
+    rows, cols = set(range(k)), set(range(k))
+    steps = []  # (column, pivot, the pivot row's other entries, its right-hand side)
+    while True:
+        best = None
+        for (i, j), v in M.items():
+            if i in rows and j in cols and isinstance(v, float) and abs(v) >= _PIVOT_MIN:
+                n_row = sum(1 for (r, c) in M if r == i and c in cols)
+                n_col = sum(1 for (r, c) in M if c == j and r in rows)
+                cost = ((n_row - 1) * (n_col - 1), -abs(v), i, j)
+                best = cost if best is None or cost < best else best
+        if best is None:
+            break
+        i, j = best[2], best[3]
+        p = M[i, j]
+        row = {c: M[i, c] for c in cols if c != j and (i, c) in M}
+        steps.append((j, p, row, b[i]))
+        rows.discard(i)
+        cols.discard(j)
+        for r in rows:
+            if (r, j) in M:
+                factor = M.pop((r, j)) / p
+                for c, v in row.items():
+                    M[r, c] = M[r, c] - factor * v if (r, c) in M else -factor * v
+                b[r] = b[r] - factor * b[i]
+    x = {}
+    if rows:
+        rr, cc = sorted(rows), sorted(cols)
+        dense = ca.SX(len(rr), len(cc))
+        for a, r in enumerate(rr):
+            for e, c in enumerate(cc):
+                if (r, c) in M:
+                    dense[a, e] = M[r, c]
+        sol = ca.solve(dense, ca.vertcat(*[b[r] for r in rr]))
+        x.update({c: sol[e] for e, c in enumerate(cc)})
+    for j, p, row, rhs in reversed(steps):
+        s = rhs
+        for c, v in row.items():
+            s = s - v * x[c]
+        x[j] = s / p
+    return ca.Function("block", [ca.vertcat(*inputs)], [ca.vertcat(*[x[j] for j in range(k)])])
+
+
+_BLOCK_FUNCTIONS: dict = {}
+
+
+def _block_solver(pattern, k):
+    """:func:`_block_function`, built once per pattern (a few dozen small patterns exist)."""
+    key = (pattern, k)
+    if key not in _BLOCK_FUNCTIONS:
+        if len(_BLOCK_FUNCTIONS) > 256:
+            _BLOCK_FUNCTIONS.clear()
+        _BLOCK_FUNCTIONS[key] = _block_function(pattern, k)
+    return _BLOCK_FUNCTIONS[key]
 
 
 def _solve_symbolic(A, f, n, motion):
-    """CasADi path: per crank angle, the system solved block by block in its block-triangular
-    order (:func:`_blocks`), each block by :func:`_cramer`."""
+    """CasADi path: the system solved block by block in its block-triangular order
+    (:func:`_blocks`), every block for all angles at once: its elimination
+    (:func:`_block_function`) written once as a Function of the block's entries and mapped over
+    the angles. Returns the unknowns as an ``m x n`` SX (a row per angle)."""
     import casadi as ca
 
     values = list(A.values()) + list(f.values()) + [motion.phi]
     m = max((v.shape[0] if hasattr(v, "shape") and len(v.shape) else 1) for v in values)
 
-    def at(v, i):
+    def row(v):
+        """``v`` (a number, a per-angle array or a CasADi column) as a 1 x m SX row."""
         if ops.is_symbolic(v):
-            return v[i] if v.shape[0] > 1 else v
-        v = np.asarray(v, dtype=float)
-        return float(v.ravel()[i]) if v.size > 1 else float(v)
+            v = ca.SX(v)
+            return ca.repmat(v, 1, m) if v.numel() == 1 else ca.reshape(v, 1, m)
+        v = np.broadcast_to(np.asarray(v, dtype=float).ravel(), (m,))
+        return ca.SX(ca.DM(v.reshape(1, m)))
+
+    def constant(v):
+        if ops.is_symbolic(v):
+            return None
+        a = np.asarray(v, dtype=float)
+        if a.size == 1 or np.all(a == a.ravel()[0]):
+            return float(a.ravel()[0])
+        return None
 
     blocks = _blocks(A, n)
-    out = []
-    for i in range(m):
-        Ai = {}
-        for key, v in A.items():
-            v = at(v, i)
-            if not (isinstance(v, float) and v == 0.0):
-                Ai[key] = v
-        if blocks is None:
-            dense = ca.SX(n, n)
-            for (r, c), v in Ai.items():
-                dense[r, c] = v
-            fi = ca.SX(n, 1)
-            for r, v in f.items():
-                fi[r] = at(v, i)
-            out.append(ca.solve(dense, -fi).T)
-            continue
-        by_row = {}
-        for r, c in Ai:
-            by_row.setdefault(r, []).append(c)
-        x = [None] * n
-        for rows, cols in blocks:
-            inside = set(cols)
-            rhs = []
-            for r in rows:
-                s = -at(f[r], i) if r in f else 0.0
-                for c in by_row.get(r, ()):
-                    if c not in inside:
-                        s = s - Ai[r, c] * x[c]
-                rhs.append(s)
-            for c, v in zip(cols, _cramer(Ai, rows, cols, rhs), strict=True):
-                x[c] = v
-        out.append(ca.horzcat(*[ca.SX(v) for v in x]))
-    return ca.vertcat(*out)  # m x n
+    if blocks is None:  # structurally singular: one block, casadi.solve's error or NaN
+        blocks = [(list(range(n)), list(range(n)))]
+    by_row: dict = {}
+    for r, c in A:
+        by_row.setdefault(r, []).append(c)
+    x: list = [None] * n
+    for rows, cols in blocks:
+        rows, cols = list(rows), list(cols)
+        local_c = {c: e for e, c in enumerate(cols)}
+        pattern, inputs = [], []
+        for a, r in enumerate(rows):
+            for c in sorted(by_row.get(r, ())):
+                if c in local_c:
+                    value = constant(A[r, c])
+                    if value == 0.0:
+                        continue
+                    pattern.append((a, local_c[c], value))
+                    if value is None:
+                        inputs.append(row(A[r, c]))
+        for r in rows:
+            s = -row(f[r]) if r in f else ca.SX.zeros(1, m)
+            for c in by_row.get(r, ()):
+                if c not in local_c:
+                    s = s - row(A[r, c]) * x[c]
+            inputs.append(s)
+        solver = _block_solver(tuple(pattern), len(rows))
+        X = solver.map(m)(ca.vertcat(*inputs))
+        for e, c in enumerate(cols):
+            x[c] = X[e, :]
+    return ca.vertcat(*x).T  # m x n
 
 
 def kinetostatics(model: ForceModel, motion: Motion) -> ForceResult:
@@ -479,8 +535,8 @@ def kinetostatics(model: ForceModel, motion: Motion) -> ForceResult:
 
     With CasADi symbols anywhere (design parameters, masses, loads) the same equations are
     solved symbolically, block by block in the system's block-triangular order (each block by
-    Cramer's rule over its nonzeros); the result's arrays are then
-    CasADi columns over the angles, exactly differentiable.
+    an elimination written once and mapped over the angles: :func:`_block_function`); the
+    result's arrays are then CasADi columns over the angles, exactly differentiable.
     """
     A_ent, f_ent, n = _entries(model, motion)
     if ops.is_symbolic(*A_ent.values(), *f_ent.values()):
