@@ -224,7 +224,12 @@ def run(args) -> int:
     lk = {k: float(v) for k, v in design.parameters.items()}
     dims = ", ".join(
         f"{name} {lk[key] / du.factor('m'):.6g}"
-        for name, key in (("crank", "OA"), ("coupler", "AB"), ("rocker", "DB"))
+        for name, key in (
+            ("crank", "OA"),
+            ("coupler", "AB"),
+            ("rocker", "DB"),
+            ("slot offset", "coupler_offset"),
+        )
         if key in lk
     )
     lines.append(
@@ -298,6 +303,8 @@ def _refined(data, design):
                 "through": [p["B_guide_x"], p["B_guide_y"]],
                 "angle": p["B_guide_angle"],
             }
+        elif g["type"] == "rpr":
+            g["offset"] = p["coupler_offset"]
         elif g["type"] == "attach":
             g["along"], g["left"] = p[f"{g['point']}_along"], p[f"{g['point']}_left"]
     return data

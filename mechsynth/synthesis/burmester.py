@@ -11,7 +11,9 @@ Conventions
   point* (the moving pivot), reported where it lies in pose 1 (global coordinates, ``circle``)
   and in the moving frame (``local``); its positions in all poses lie on one circle about ``c``.
   A PR dyad (a slider: its centre point at infinity) has a circle point whose positions lie on
-  one straight line, the guide.
+  one straight line, the guide. An RP dyad (a block pinned at a fixed pivot, the coupler sliding
+  through it: its circle point at infinity) has a line fixed in the moving plane, the slot,
+  that passes through its fixed pivot in every pose.
 
 Equations
 ---------
@@ -31,6 +33,11 @@ a quadratic in the distance vanishes, and the resultant of the two quadratics is
 degree 8 in ``t`` whose factors ``1 + t^2`` (the circular points) and the directions of the
 common poles P13 and P23 are divided out. Each real root is refined by Newton's method on the
 four equations to round-off.
+
+RP dyads are the PR dyads of the inverse motion (the fixed plane seen from the moving one: pose
+``j`` inverted is ``(-R(-angle_j) p_j, -angle_j)``): a point of the fixed plane whose positions
+in the moving frame lie on one line is a fixed pivot through which that line, fixed in the
+moving plane, passes in every pose.
 """
 
 from __future__ import annotations
@@ -132,8 +139,12 @@ class Dyad:
         guide from the origin is not a length: None.
     guide_angle : a slider's guide direction from +x (rad, in ``[0, pi)``); None for RR.
     residual : the largest deviation over all poses from an exact dyad (m): of the moving
-        pivot's distance from the centre from ``length`` (RR), or of its positions from the
-        guide line (PR).
+        pivot's distance from the centre from ``length`` (RR), of its positions from the
+        guide line (PR), or of the fixed pivot from the slot line (RP).
+    line_angle : an RP dyad's slot direction in the moving frame (rad from the frame's x axis,
+        in ``[0, pi)``; in pose ``j`` the slot runs at ``angle_j + line_angle`` from +x); its
+        ``centre`` is the fixed pivot the slot passes through and ``circle`` (``local``) the
+        point of the slot at that pivot in pose 1. None for RR and PR.
     """
 
     centre: tuple[float, float] | None
@@ -142,10 +153,14 @@ class Dyad:
     length: float | None
     guide_angle: float | None = None
     residual: float = 0.0
+    line_angle: float | None = None
 
     @property
     def kind(self) -> str:
-        """``"RR"`` (a crank pinned at ``centre``) or ``"PR"`` (a slider on a guide)."""
+        """``"RR"`` (a crank pinned at ``centre``), ``"PR"`` (a slider on a guide) or ``"RP"``
+        (a slot of the moving plane through a block pinned at ``centre``)."""
+        if self.line_angle is not None:
+            return "RP"
         return "RR" if self.centre is not None else "PR"
 
     def positions(self, poses) -> np.ndarray:
@@ -161,6 +176,7 @@ class Dyad:
             "length": self.length,
             "guide_angle": self.guide_angle,
             "residual": self.residual,
+            "line_angle": self.line_angle,
         }
 
 
@@ -209,8 +225,9 @@ class Burmester:
     poles : ``{(i, j): (x, y)}`` the displacement poles of poses ``i < j`` (1-based), the
         fixed point of the displacement from pose i to pose j; None where the two poses differ
         by a translation only (the pole at infinity).
-    points : the Burmester dyads (five poses: RR dyads, 0, 2 or 4; plus a slider where a
-        Burmester point lies at infinity); empty for fewer poses.
+    points : the Burmester dyads (five poses: RR dyads, 0, 2 or 4; plus a PR slider where a
+        centre point lies at infinity, an RP dyad where a circle point does); empty for fewer
+        poses.
     """
 
     poses: np.ndarray
@@ -298,6 +315,36 @@ class Burmester:
         u = np.linalg.solve(rows, -rhs)
         return _slider(self.poses, u, n, self._scale, self.poses[0, :2])
 
+    def rp_point(self, line_angle) -> Dyad:
+        """3 poses: the RP dyad whose slot runs at ``line_angle`` in the moving frame (rad from
+        its x axis): the one fixed point that the line of that direction, fixed in the moving
+        plane, passes through in all three poses."""
+        if self.n != 3:
+            raise MechanismError(
+                f"rp_point(line_angle) takes 3 poses (got {self.n}); with 4 poses the RP dyad "
+                "is Burmester.rp_dyads(), with 5 it exists only where a circle point lies at "
+                "infinity"
+            )
+        g = validate.number("line_angle", line_angle, "rad")
+        d = _rp_dyad(self.poses, self._scale, np.array([-np.sin(g), np.cos(g)]))
+        if d is None:
+            raise MechanismError(
+                f"no single fixed pivot for a slot at {np.degrees(g):.6g} deg in the moving "
+                "frame: every point's positions or none lie on such lines"
+            )
+        return d
+
+    def rp_dyads(self) -> tuple[Dyad, ...]:
+        """4 poses: the RP dyad (the circle-point curve's real point at infinity: one, as the
+        PR dyad of the inverse motion); 5 poses: the RP dyads among :attr:`points`; ()
+        otherwise."""
+        if self.n == 5:
+            return tuple(d for d in self.points if d.kind == "RP")
+        if self.n != 4:
+            return ()
+        d = _rp_dyad(self.poses, self._scale)
+        return (d,) if d is not None and d.residual <= 1e-7 * self._scale else ()
+
     def sliders(self) -> tuple[Dyad, ...]:
         """4 poses: the slider (PR) dyad, the circle point of the centre-point curve's real point
         at infinity (one); 5 poses: the slider dyads among :attr:`points`; () otherwise."""
@@ -358,6 +405,7 @@ class Burmester:
             },
             "burmester_points": [d.as_dict() for d in self.points],
             "sliders": [d.as_dict() for d in self.sliders()],
+            "rp_dyads": [d.as_dict() for d in self.rp_dyads()],
         }
 
     def plot(self, candidate=None, ax=None, **kwargs):
@@ -433,6 +481,47 @@ def _slider_normal(poses, scale, k):
 
     a, b = det((1.0, 0.0)), det((0.0, 1.0))
     return np.array([-b, a]) / np.hypot(a, b)
+
+
+def _inverse_poses(poses) -> np.ndarray:
+    """The fixed plane's poses seen from the moving frame (pose 1's point moved to the origin
+    first, for the digits): ``(-R(-angle_j) (p_j - p_1), -angle_j)``."""
+    rel = poses[:, :2] - poses[0, :2]
+    c, s = np.cos(poses[:, 2]), np.sin(poses[:, 2])
+    x = -(c * rel[:, 0] + s * rel[:, 1])
+    y = -(-s * rel[:, 0] + c * rel[:, 1])
+    return np.column_stack([x, y, -poses[:, 2]])
+
+
+def _rp_dyad(poses, scale, normal=None) -> Dyad | None:
+    """The RP dyad as the PR dyad of the inverse motion (module notes): for the slot normal
+    ``normal`` in the moving frame (3 poses), or the one of 4 or 5 poses (its normal from the
+    first four). None where the equations leave it undetermined."""
+    inv = _inverse_poses(poses)
+    if normal is None:
+        normal = _slider_normal(inv, scale, 3)
+    if not np.all(np.isfinite(normal)):
+        return None
+    rows, rhs = _slider_rows(inv, scale, normal)
+    if rows.shape[0] == 2:
+        if abs(np.linalg.det(rows)) < 1e-12:
+            return None
+        u = np.linalg.solve(rows, -rhs)
+    else:
+        u, *_ = np.linalg.lstsq(rows, -rhs, rcond=None)
+    s = _slider(inv, u, normal, scale, inv[0, :2])
+    centre = poses[0, :2] + np.asarray(s.local)
+    local = np.asarray(s.circle)  # the pivot's place in the moving frame in pose 1
+    z = _rot(poses[0, 2]) @ local + poses[0, :2]
+    return Dyad(
+        (float(centre[0]), float(centre[1])),
+        (float(z[0]), float(z[1])),
+        (float(local[0]), float(local[1])),
+        None,
+        None,
+        s.residual,
+        s.guide_angle,
+    )
 
 
 def _det_rows(r1, r2, r3):
@@ -695,4 +784,11 @@ def _five(arr, scale) -> tuple[Dyad, ...]:
     s = _slider(arr, u, n, scale, arr[0, :2])
     if s.residual <= 1e-9 * scale:
         dyads.append(s)
+    rp = _rp_dyad(arr, scale)
+    if rp is not None and rp.residual <= 1e-9 * scale:
+        dyads.append(rp)
+    if any(d.kind != "RR" for d in dyads):
+        # the quartic's root of a dyad at infinity comes back as an RR dyad of a huge length
+        # (its far pivot in floating point): the PR or RP dyad is that dyad, exactly
+        dyads = [d for d in dyads if d.kind != "RR" or d.length <= 1e6 * scale]
     return tuple(dyads)

@@ -7,12 +7,15 @@ draws them (:func:`plot_motion`) and hands a chosen one to the optimizer
 
 A pairing of two dyads, the *crank* (an RR dyad: fixed pivot O, moving pivot A) and the *driven*
 dyad (RR: fixed pivot D, moving pivot B, a four-bar; PR: the slider B on a guide, a
+slider-crank; RP: a block pinned at D through which the coupler slides, an inverted
 slider-crank), is a :class:`~mechsynth.kinematics.Linkage` in the poses' frame (ground points
-``O`` and ``D``, crank ``OA`` at the absolute crank angle, ``AB`` the coupler, the pose point
-``P`` and a point ``Q`` on the pose frame's x axis attached to the coupler) and, where its crank
-turns fully, the same design as an :class:`~mechsynth.FourBar` or
+``O`` and ``D``, crank ``OA`` at the absolute crank angle, ``AB`` the coupler -- for an RP dyad
+the RPR group ``coupler`` pinned at A, its slot through the block ``block`` at D --, the pose
+point ``P`` and a point ``Q`` on the pose frame's x axis attached to the coupler) and, where its
+crank turns fully, the same design as an :class:`~mechsynth.FourBar` or
 :class:`~mechsynth.SliderCrank` in their standard frame (crank pivot at the origin, ground or
-guide along +x) with the rigid transform between the frames.
+guide along +x) with the rigid transform between the frames (the inverted slider-crank has no
+such class: its ``Linkage`` is the design).
 
 Defects (``Candidate.defects``):
 
@@ -23,7 +26,8 @@ Defects (``Candidate.defects``):
 * ``"limit"`` -- between the first and the last pose the crank meets a limit position (it would
   have to reverse): a rocking crank's range does not cover the poses' span;
 * ``"grashof"`` -- the crank cannot make full turns (the four-bar is not a crank-rocker or
-  double-crank; the slider-crank's rod is too short).
+  double-crank; the slider-crank's rod is too short; the inverted slider-crank's slot comes
+  nearer its crank pin than ``|OD| - OA`` allows: ``| |OD| - OA | <= |offset|``).
 
 Ranking: fewer defects first, then the larger minimum transmission angle (folded to
 ``[0, 90 deg]``) over the motion from the first to the last pose.
@@ -52,6 +56,14 @@ __all__ = [
 
 #: crank-angle samples between the first and the last pose (transmission angle, limits)
 SPAN_SAMPLES = 181
+#: the kind of linkage of each kind of driven dyad
+KINDS = {"RR": "four-bar", "PR": "slider-crank", "RP": "inverted slider-crank"}
+
+
+def driven_key(kind: str) -> str:
+    """The name under which a candidate linkage of ``kind`` reports the driven dyad's
+    transmission angle (its point B, or the RPR group's link ``coupler``)."""
+    return "coupler" if kind == KINDS["RP"] else "B"
 
 
 @dataclass(frozen=True, eq=False)
@@ -60,19 +72,20 @@ class Candidate:
 
     Attributes
     ----------
-    kind : ``"four-bar"`` or ``"slider-crank"``.
-    crank, driven : the driving RR dyad and the driven dyad (RR or PR).
+    kind : ``"four-bar"``, ``"slider-crank"`` or ``"inverted slider-crank"``.
+    crank, driven : the driving RR dyad and the driven dyad (RR, PR or RP).
     linkage : the design as a :class:`~mechsynth.kinematics.Linkage` in the poses' frame:
         ground points ``O`` (crank pivot) and ``D`` (rocker pivot; a slider-crank has its guide
-        through the slider's first position), points ``A``, ``B``, the pose point ``P`` and
-        ``Q`` (on the pose frame's x axis, a quarter of the coupler from P); its input is the
-        absolute crank angle (``phase`` 0).
+        through the slider's first position; an inverted slider-crank's block pivot), points
+        ``A``, ``B`` (not for an RP dyad: its coupler is the RPR link ``coupler``), the pose
+        point ``P`` and ``Q`` (on the pose frame's x axis, a quarter of the coupler from P); its
+        input is the absolute crank angle (``phase`` 0).
     crank_angles : the crank angle (rad, from +x) at each pose, unwrapped in the direction of
         rotation from the first pose.
     direction : +1 (counter-clockwise) or -1: the crank's turning direction through the poses.
     branch : the driven dyad's assembly branch at the poses (+1, -1; 0 when it changes).
-    grashof : the four-bar's Grashof class (``"crank-rocker"``, ...); for a slider-crank
-        ``"full-turn crank"`` or ``"rocking crank"``.
+    grashof : the four-bar's Grashof class (``"crank-rocker"``, ...); for a slider-crank and
+        an inverted slider-crank ``"full-turn crank"`` or ``"rocking crank"``.
     defects : the defects found (module notes); empty for a usable linkage.
     min_transmission : the smallest transmission angle (rad, folded to [0, pi/2]) over the
         motion from the first to the last pose; 0 where the crank meets a limit position (a toggle)
@@ -132,18 +145,26 @@ class Candidate:
         p = {k: float(v) for k, v in self.linkage.parameters.items()}
         ground = {"O": [p["O_x"], p["O_y"]]}
         groups = [{"type": "crank", "point": "A", "about": "O", "length": p["OA"]}]
+        on = ["A", "B"]
         if self.kind == "four-bar":
             ground["D"] = [p["D_x"], p["D_y"]]
             groups.append(
                 {"type": "rrr", "point": "B", "first": ["A", p["AB"]], "second": ["D", p["DB"]],
                  "branch": self._rrr_branch()}
             )  # fmt: skip
+        elif self.kind == KINDS["RP"]:
+            ground["D"] = [p["D_x"], p["D_y"]]
+            groups.append(
+                {"type": "rpr", "link": "coupler", "about": "A", "through": "D",
+                 "offset": p["coupler_offset"], "branch": 1, "block": "block"}
+            )  # fmt: skip
+            on = "coupler"
         else:
             guide = {"through": [p["B_guide_x"], p["B_guide_y"]], "angle": p["B_guide_angle"]}
             groups.append({"type": "rrp", "point": "B", "rod": ["A", p["AB"]], "guide": guide})
         for q in ("P", "Q"):
             groups.append(
-                {"type": "attach", "point": q, "on": ["A", "B"], "along": p[f"{q}_along"],
+                {"type": "attach", "point": q, "on": on, "along": p[f"{q}_along"],
                  "left": p[f"{q}_left"]}
             )  # fmt: skip
         return {"linkage": {"name": self.kind, "output": "P"}, "ground": ground, "group": groups}
@@ -168,6 +189,29 @@ class Candidate:
 def _cross(a, b):
     """z of the cross product of plane vectors (``(..., 2)``)."""
     return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
+def _rp_linkage(crank: Dyad, driven: Dyad, poses, u):
+    """The Linkage of an RR crank and an RP dyad: the RPR group ``coupler`` pinned at A, its
+    axis along ``u`` (the slot's direction in pose 1, taken so that the block lies ahead of A),
+    the slot ``offset`` to the left of that axis through the block pivot D."""
+    from ..kinematics.linkage import Linkage
+
+    za, d = np.asarray(crank.circle), np.asarray(driven.centre)
+    un = np.array([-u[1], u[0]])
+    span = float(np.max(np.hypot(*(poses[:, :2] - poses[0, :2]).T)))
+    p1 = poses[0, :2]
+    q1 = p1 + 0.25 * max(float(np.hypot(*(d - za))), span) * np.array(
+        [np.cos(poses[0, 2]), np.sin(poses[0, 2])]
+    )
+    lk = (
+        Linkage(ground={"O": crank.centre, "D": driven.centre}, name=KINDS["RP"])
+        .crank("A", about="O", length=crank.length)
+        .rpr("coupler", about="A", through="D", offset=float((d - za) @ un), block="block")
+    )
+    for name, pt in (("P", p1), ("Q", q1)):
+        lk = lk.attach(name, on="coupler", along=float((pt - za) @ u), left=float((pt - za) @ un))
+    return lk.with_output("P")
 
 
 def _linkage(kind, crank: Dyad, driven: Dyad, poses, branch):
@@ -201,14 +245,14 @@ def _linkage(kind, crank: Dyad, driven: Dyad, poses, branch):
 
 
 def pair(poses, crank: Dyad, driven: Dyad) -> Candidate:
-    """The four-bar (``driven`` RR) or slider-crank (``driven`` PR) of two dyads, checked for
-    its defects (module notes)."""
+    """The four-bar (``driven`` RR), slider-crank (``driven`` PR) or inverted slider-crank
+    (``driven`` RP) of two dyads, checked for its defects (module notes)."""
     from ..kinematics.four_bar import FourBar, grashof
 
     poses = as_poses(poses, max_poses=None)
     if crank.kind != "RR":
         raise MechanismError("the crank must be an RR dyad (a fixed pivot), got a slider dyad")
-    kind = "four-bar" if driven.kind == "RR" else "slider-crank"
+    kind = KINDS[driven.kind]
     a_pos, b_pos = crank.positions(poses), driven.positions(poses)
     o = np.asarray(crank.centre)
     phi = np.arctan2(a_pos[:, 1] - o[1], a_pos[:, 0] - o[0])
@@ -216,6 +260,14 @@ def pair(poses, crank: Dyad, driven: Dyad) -> Candidate:
     if kind == "four-bar":
         d = np.asarray(driven.centre)
         side = _cross(d - a_pos, b_pos - a_pos)
+    elif kind == KINDS["RP"]:
+        # the block's place along the slot from A (the slot's direction in each pose, taken
+        # so that it is ahead of A in pose 1): through zero, the coupler meets a toggle
+        d = np.asarray(driven.centre)
+        g1 = driven.line_angle + poses[0, 2]
+        ahead = float((d - a_pos[0]) @ np.array([np.cos(g1), np.sin(g1)]))
+        ug = driven.line_angle + (np.pi if ahead < 0 else 0.0) + poses[:, 2]
+        side = np.einsum("ij,ij->i", d - a_pos, np.column_stack([np.cos(ug), np.sin(ug)]))
     else:
         g = np.array([np.cos(driven.guide_angle), np.sin(driven.guide_angle)])
         side = (b_pos - a_pos) @ g
@@ -242,6 +294,12 @@ def pair(poses, crank: Dyad, driven: Dyad) -> Candidate:
         lc = float(np.hypot(*(np.asarray(driven.circle) - np.asarray(crank.circle))))
         gclass = grashof(la, lc, driven.length, lg).kind
         rotates = gclass in ("crank-rocker", "double-crank")
+    elif kind == KINDS["RP"]:
+        u1 = np.array([np.cos(ug[0]), np.sin(ug[0])])
+        offset = float(_cross(u1, np.asarray(driven.centre) - a_pos[0]))
+        lg = float(np.hypot(*(np.asarray(driven.centre) - o)))
+        rotates = abs(lg - la) > abs(offset)
+        gclass = "full-turn crank" if rotates else "rocking crank"
     else:
         g = np.array([np.cos(driven.guide_angle), np.sin(driven.guide_angle)])
         offset = float(_cross(g, o - np.asarray(driven.circle)))
@@ -250,7 +308,10 @@ def pair(poses, crank: Dyad, driven: Dyad) -> Candidate:
         gclass = "full-turn crank" if rotates else "rocking crank"
     if not rotates:
         defects.append("grashof")
-    lk = _linkage(kind, crank, driven, poses, branch if branch else int(signs[0] or 1))
+    if kind == KINDS["RP"]:
+        lk = _rp_linkage(crank, driven, poses, u1)
+    else:
+        lk = _linkage(kind, crank, driven, poses, branch if branch else int(signs[0] or 1))
     # the motion from the first to the last pose: limits and transmission angle
     sweep = phi[0] + direction * np.linspace(0.0, span[-1], SPAN_SAMPLES)
     margins = lk.assembly_margins(sweep)
@@ -260,10 +321,10 @@ def pair(poses, crank: Dyad, driven: Dyad) -> Candidate:
         defects.append("limit")
     else:
         m = lk.motion(sweep)
-        mu = np.asarray(m.transmission_angles["B"], float)
+        mu = np.asarray(m.transmission_angles[driven_key(kind)], float)
         mu_min = float(np.min(np.fmin(mu, np.pi - mu)))
     mech, origin, rot = None, (float(o[0]), float(o[1])), 0.0
-    if rotates and branch != 0:
+    if rotates and branch != 0 and kind != KINDS["RP"]:
         if kind == "four-bar":
             rot = float(np.arctan2(*(np.asarray(driven.centre) - o)[::-1]))
             mech = FourBar(
@@ -372,7 +433,7 @@ class MotionGeneration:
             ga = c.driven.guide_angle
             cols["guide angle [deg]"].append(float("nan") if ga is None else float(np.degrees(ga)))
             cols["crank [m]"].append(float(p["OA"]))
-            cols["coupler [m]"].append(float(p["AB"]))
+            cols["coupler [m]"].append(float(p["AB"]) if "AB" in p else float("nan"))
             cols["rocker [m]"].append(float(p["DB"]) if "DB" in p else float("nan"))
         return cols
 
@@ -429,8 +490,8 @@ def motion_generation(poses, centres=None, dyads=None, samples: int = 12) -> Mot
 
     Returns
     -------
-    MotionGeneration : every pairing of two dyads (each RR dyad as the crank, the other RR or
-        PR as the driven dyad), checked for defects and ranked.
+    MotionGeneration : every pairing of two dyads (each RR dyad as the crank, the other RR,
+        PR or RP as the driven dyad), checked for defects and ranked.
     """
     from .. import validate
 
@@ -458,7 +519,7 @@ def motion_generation(poses, centres=None, dyads=None, samples: int = 12) -> Mot
                 ds.append(bm.circle_point(c))
             except MechanismError:  # a sample at a pole
                 continue
-        ds += list(bm.sliders())
+        ds += list(bm.sliders()) + list(bm.rp_dyads())
     else:
         raise MechanismError(
             f"with {n} poses every point is a centre point: choose the fixed pivots "
@@ -498,8 +559,9 @@ def motion_generation(poses, centres=None, dyads=None, samples: int = 12) -> Mot
 def pose_error_measure(poses, kind: str = "four-bar"):
     """A :class:`~mechsynth.objectives.ScalarMeasure` of a linkage of this module: the largest
     structural error (m) over the poses -- how far each moving pivot, placed by the pose, lies
-    off its circle about its fixed pivot (or off the slider's guide). Zero exactly when the
-    linkage can take every pose. Written with ``ops``: CasADi parameters give exact
+    off its circle about its fixed pivot (or off the slider's guide; for an inverted
+    slider-crank, how far the block pivot lies off the slot placed by the pose). Zero exactly
+    when the linkage can take every pose. Written with ``ops``: CasADi parameters give exact
     derivatives; its branches ``(+e, -e)`` make ``<=`` and ``minimize`` smooth."""
     from ..kinematics import ops
     from ..objectives.base import ScalarMeasure
@@ -507,15 +569,23 @@ def pose_error_measure(poses, kind: str = "four-bar"):
     poses = as_poses(poses, max_poses=None)
     cth, sth = np.cos(poses[:, 2]), np.sin(poses[:, 2])
 
+    rp = kind == KINDS["RP"]
+
     def errors(lk):
         p = lk.parameters
-        ab = p["AB"]
         fx, fy = p["Q_along"] - p["P_along"], p["Q_left"] - p["P_left"]
         fn = ops.sqrt(fx * fx + fy * fy)
         fx, fy = fx / fn, fy / fn
         out = []
-        for vx, vy, which in ((-p["P_along"], -p["P_left"], "A"),
-                              (ab - p["P_along"], -p["P_left"], "B")):  # fmt: skip
+        if rp:  # the block pivot D in the coupler's frame (origin A, x along the slot)
+            for j in range(len(poses)):
+                dx, dy = p["D_x"] - poses[j, 0], p["D_y"] - poses[j, 1]
+                lx, ly = cth[j] * dx + sth[j] * dy, -sth[j] * dx + cth[j] * dy
+                out.append(lx * fy + ly * fx + p["P_left"] - p["coupler_offset"])
+        pairs = ((-p["P_along"], -p["P_left"], "A"),)
+        if not rp:
+            pairs += ((p["AB"] - p["P_along"], -p["P_left"], "B"),)
+        for vx, vy, which in pairs:
             lx, ly = vx * fx + vy * fy, -fy * vx + fx * vy  # in the pose frame
             for j in range(len(poses)):
                 x = poses[j, 0] + cth[j] * lx - sth[j] * ly
@@ -605,7 +675,7 @@ def motion_problem(
     prob = Problem(lk, variables=variables, fixed=fixed)
     err = pose_error_measure(poses, candidate.kind)
     if objective == "transmission":
-        prob.maximize(ob.min_transmission_angle("B"))
+        prob.maximize(ob.min_transmission_angle(driven_key(candidate.kind)))
         prob.subject_to(err <= tol)
     else:
         prob.minimize(err)
@@ -642,7 +712,8 @@ def plot_motion(bm: Burmester, candidate: Candidate | None = None, ax=None, titl
             if candidate.driven.centre is not None:
                 pts.append(np.array([candidate.driven.centre]))
         span = float(np.max(np.ptp(poses[:, :2], axis=0)))
-        ax.plot([], [], color=PALETTE[5], lw=1.4, label="poses (x axis, y axis)")
+        ax.plot([], [], color=PALETTE[5], lw=1.4, marker=">", ms=5,
+                label="poses (x axis, y axis)")  # fmt: skip
         poles = np.array([p for p in bm.poles.values() if p is not None])
         lo = np.min(np.concatenate(pts), axis=0)
         hi = np.max(np.concatenate(pts), axis=0)
@@ -672,6 +743,12 @@ def plot_motion(bm: Burmester, candidate: Candidate | None = None, ax=None, titl
                 both = np.concatenate([c, z])
                 near = np.all((both > view_lo) & (both < view_hi), axis=1)
                 pts.append(both[near])
+        rp = bm.rp_dyads()
+        if rp:
+            c = np.array([d.centre for d in rp])
+            ax.plot(c[:, 0] / k, c[:, 1] / k, "D", mfc="none", color=PALETTE[2], ms=7,
+                    label="RP dyads' block pivots")  # fmt: skip
+            pts.append(c[np.all((c > view_lo) & (c < view_hi), axis=1)])
         lo = np.min(np.concatenate(pts), axis=0)
         hi = np.max(np.concatenate(pts), axis=0)
         size = max(float(np.max(hi - lo)), span)
