@@ -167,3 +167,20 @@ def test_speed_acceleration_front(result):
     syn = res.data["recommendation_1"]["synthesis"]
     assert front[0]["second"] == pytest.approx(syn["acceleration_optimal"]["value"], rel=1e-5)
     assert front[-1]["first"] == pytest.approx(syn["velocity_optimal"]["value"], rel=1e-6)
+
+
+@pytest.mark.slow
+def test_docs_tables_are_this_runs(result):
+    # docs/pumping_unit.md prints the recommendation-1 table and both fronts: each must be the
+    # table this run renders (beam_pump_docs_tables.md), digit for digit, so a changed model or
+    # solver cannot leave a stale page behind.
+    from pathlib import Path
+
+    from mechsynth.studies.beam_pump import docs_tables
+
+    res, out = result
+    tables = docs_tables(res.data)
+    page = (Path(__file__).parent.parent / "docs" / "pumping_unit.md").read_text()
+    for name, table in tables.items():
+        assert table in page, f"docs/pumping_unit.md's {name} table is not this run's:\n{table}"
+    assert (out / "beam_pump_docs_tables.md").read_text().count("| --- |") == 3

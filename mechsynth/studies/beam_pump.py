@@ -526,6 +526,57 @@ def _run(out, n_angles, pareto_points, starts, stages):
     return COVERAGE.attach(StudyResult("beam-pump", summary, data, files, errata), out)
 
 
+def docs_tables(data) -> dict[str, str]:
+    """The Markdown tables docs/pumping_unit.md prints from this study's run, rendered from
+    ``data`` (``run(...).data`` or ``beam_pump.json``): ``"recommendation_1"`` (each
+    objective's optimum), ``"speed_acceleration"`` and ``"pressure_front"`` (the fronts, one
+    row a point). The run writes them to ``beam_pump_docs_tables.md``; a test holds the docs to
+    them, so a changed model or solver shows up as a changed table, not a stale page."""
+    syn = data["recommendation_1"]["synthesis"]
+    rows = [
+        "| objective | crank, m | pitman, m | X_O2, m | Y_O2, m | peak speed, m/s | "
+        "peak acceleration, m/s^2 | max pressure angle, deg |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    for key, name in (("acceleration_optimal", "peak acceleration"), ("velocity_optimal",
+                                                                      "peak speed")):
+        r = syn[key]
+        if "crank" not in r:
+            rows.append(f"| {name} | {r['status']} | | | | | | |")
+            continue
+        rows.append(
+            f"| {name} | {r['crank']:.4f} | {r['pitman']:.5g} | {r['X_O2']:.5g} | "
+            f"{r['Y_O2']:.5g} | {r['peak_velocity']:.4f} | {r['peak_acceleration']:.4f} | "
+            f"{r['max_pressure_angle_deg']:.2f} |"
+        )
+
+    def front(points, bound_head, second, first, bound_fmt, anchor_words):
+        out = [f"| {bound_head} | {second} | {first} |", "| --- | --- | --- |"]
+        last = len(points) - 1
+        for i, p in enumerate(points):
+            if not p["success"]:
+                out.append(f"| {bound_fmt(p['eps'])} | {p['status']} | |")
+                continue
+            bound = (
+                "(free: anchor)" if i == 0 else
+                f"(min {anchor_words}: anchor)" if i == last else bound_fmt(p["eps"])
+            )
+            out.append(f"| {bound} | {bound_fmt(p['second'])} | {p['first']:.5f} |")
+        return "\n".join(out)
+
+    return {
+        "recommendation_1": "\n".join(rows),
+        "speed_acceleration": front(
+            data["pareto_velocity_acceleration"]["points"], "acceleration bound, m/s^2",
+            "peak acceleration, m/s^2", "peak speed, m/s", lambda v: f"{v:.5f}", "acceleration",
+        ),
+        "pressure_front": front(
+            data["pareto"]["points"], "pressure-angle bound, deg", "max pressure angle, deg",
+            "peak acceleration, m/s^2", lambda v: f"{np.rad2deg(v):.2f}", "pressure angle",
+        ),
+    }
+
+
 def _both_objectives(best_a, best_v, speed, n=3601):
     """Recommendation 1's two objectives: each optimum's peak speed and acceleration (dense)."""
     out = {}
@@ -859,6 +910,9 @@ def _write(out, theta, w, units, card, table, front, data, best_design=None):
     files.append(out / "beam_pump_pareto.csv")
     write_text(out / "beam_pump.json", dumps(data) + "\n")
     files.append(out / "beam_pump.json")
+    tables = docs_tables(data)
+    write_text(out / "beam_pump_docs_tables.md", "\n\n".join(tables.values()) + "\n")
+    files.append(out / "beam_pump_docs_tables.md")
     return files
 
 
