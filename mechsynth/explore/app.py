@@ -47,6 +47,7 @@ from bokeh.plotting import figure
 
 from ..errors import MechanismError
 from .animation import A11Y_JS, COLORS, FRAMES, PLAYER_JS, fit_ranges, frame_glyphs, frames
+from .editor_page import Editing, url_state
 from .model import (
     State,
     candidate_state,
@@ -146,6 +147,7 @@ class Explorer:
         self._synth = None  # the running motion-generation search (a future)
         self._candidates = []
         self._build_widgets(source)
+        self.editing = Editing(self)  # joints dragged, linkages built, undo, the URL
         self._rebuild_dims()
         self._refresh(None)
 
@@ -860,6 +862,7 @@ class Explorer:
         self._draw_curves()
         self._show_stats()
         self._show_checks()
+        self.editing.after_refresh(changed)
 
     def _send_frames(self):
         """The cycle to the browser (which plays it), the current frame drawn here too."""
@@ -1597,6 +1600,7 @@ class Explorer:
         design_tab = pn.Column(
             pn.pane.Bokeh(self.fig, sizing_mode="stretch_width"),
             player,
+            self.editing.panel(),
             pn.FlexBox(
                 self.trace_select,
                 pn.Column(
@@ -1793,7 +1797,10 @@ def serve(
 
     def page():
         state = load_file(file, units) if file else State.default(kind or "slider-crank", units)
-        app = Explorer(state, out, source=source)
+        state, from_url, url_msg = url_state(state, units)  # a shared link's design
+        app = Explorer(state, out, source=None if from_url else source)
+        if url_msg:
+            app.design_msg.param.update(object=url_msg, visible=True)
         poll = pn.state.add_periodic_callback(app.poll, period=150)
 
         def closed(context):
