@@ -12,8 +12,9 @@ _DESCRIPTION = (
     "the targets), solutions.csv, positions.csv, design.toml (for 'mechsynth animate' and "
     "'explore'), for a four-bar linkage.toml (for 'chart linkage' and problem files), and "
     "result.json; "
-    "--animate adds path.gif. Ctrl-C stops the search and keeps the best design so far. Exit "
-    "1 on bad input, 2 when no start ends on a feasible design."
+    "--animate adds path.gif. With --timing prescribed, --bound adds a proved lower bound on the "
+    "error and the gap to the design found. Ctrl-C stops the search and keeps the best design "
+    "so far. Exit 1 on bad input, 2 when no start ends on a feasible design."
 )
 
 
@@ -63,6 +64,16 @@ def add_parser(sub) -> None:
     p.add_argument("--starts", type=int, default=16, help="local solves (default 16)")
     p.add_argument("--time-limit", metavar="SECONDS", type=float,
                    help="start no new solve after this time")  # fmt: skip
+    p.add_argument("--bound", action="store_true",
+                   help="with --timing prescribed: a proved lower bound on the error of every "
+                   "four-bar in the search region (branch and bound), with the gap to the best "
+                   "design; says plainly when no useful bound was found")  # fmt: skip
+    p.add_argument("--bound-around", metavar="LENGTH",
+                   help="with --bound: search the box within LENGTH (e.g. '5 cm') of the best "
+                   "design in every coordinate (pivots, crank vector, coupler, rocker) instead "
+                   "of the default bounds")  # fmt: skip
+    p.add_argument("--bound-time", metavar="SECONDS", type=float, default=20.0,
+                   help="with --bound: time for the branch and bound (default 20 s)")
     p.add_argument("--open", action="store_true", help="the points lie on an open path")
     p.add_argument("--animate", action="store_true", help="also write path.gif into --out")
     _add_output_options(p)
@@ -161,6 +172,8 @@ def run(args) -> int:
         raise MechanismError(f"--starts must be at least 1, got {args.starts}")
     if args.time_limit is not None and not args.time_limit > 0:
         raise MechanismError(f"--time-limit must be positive, got {args.time_limit}")
+    if args.bound and args.timing != "prescribed":
+        raise MechanismError(f"--bound needs --timing prescribed, got --timing {args.timing}")
     closed = not args.open
     if args.timing == "prescribed":
         rows = _read(args.targets, 3)
@@ -176,6 +189,15 @@ def run(args) -> int:
 
     constraints = [parse_constraint(c) for c in args.constraint]
     speed = None if args.speed is None else parse_quantity(args.speed, "--speed", "rad/s")
+    bound = False
+    if args.bound_around is not None and not args.bound:
+        raise MechanismError("--bound-around goes with --bound")
+    if args.bound:
+        if not args.bound_time > 0:
+            raise MechanismError(f"--bound-time must be positive, got {args.bound_time}")
+        bound = {"time_limit": args.bound_time}
+        if args.bound_around is not None:
+            bound["around"] = parse_quantity(args.bound_around, "--bound-around", "m")
     with quiet(args.quiet or args.json):
         res = path_generation(
             targets,
@@ -192,6 +214,7 @@ def run(args) -> int:
             constraints=constraints,
             speed=speed,
             direction=args.direction,
+            bound=bound,
         )
     data = res.as_dict()
     files = []

@@ -292,6 +292,7 @@ def path_generation(
     constraints=None,
     speed: float | None = None,
     direction: str = "ccw",
+    bound=False,
 ) -> PathResult:
     """A four-bar whose coupler point passes as near as possible to ``targets``.
 
@@ -334,6 +335,12 @@ def path_generation(
     direction : the crank's turn with free (or shape) timing: ``"ccw"`` (counter-clockwise,
         the crank angles increase from target to target: the literature's), ``"cw"`` (they
         decrease), or ``"either"`` (both searched, ``starts`` each).
+    bound : with prescribed timing on a four-bar (sum of squares), a proved lower bound on
+        the error of every four-bar in a region (:func:`~mechsynth.synthesis.path_bound.
+        path_bound`), reported as ``result.bound`` with the gap to the best design: ``True``
+        searches the problem's bounds; a dict sets ``around`` (m: the box within that
+        distance of the best design in every coordinate instead), ``max_boxes``,
+        ``time_limit`` (s, default 20), ``rtol``, ``branch``.
 
     Returns
     -------
@@ -347,8 +354,11 @@ def path_generation(
               feasibility_margin=feasibility_margin, progress=progress, mechanism=mechanism,
               trace=trace, variables=variables, seed=seed, constraints=constraints,
               speed=speed)  # fmt: skip
+    if bound is not False:
+        opts = _bound_options(bound, timing, objective, mechanism)
     if direction == "ccw":
-        return _path_generation(targets, **kw)
+        res = _path_generation(targets, **kw)
+        return res if bound is False else _with_bound(res, angles, bounds, opts)
     if timing == "prescribed":
         raise MechanismError(
             "direction is for free or shape timing: prescribed angles give the crank's turn"
@@ -359,6 +369,52 @@ def path_generation(
     if len(results) == 1:
         return results[0]
     return _merged(results, t)
+
+
+def _bound_options(bound, timing, objective, mechanism) -> dict:
+    """The checked options of ``bound=`` (True or a dict)."""
+    if timing != "prescribed" or objective != "squares" or not (
+        isinstance(mechanism, str) and mechanism == "four-bar"
+    ):
+        raise MechanismError(
+            "bound is for a four-bar with timing='prescribed' and objective='squares', got "
+            f"mechanism {mechanism!r}, timing {timing!r}, objective {objective!r}"
+        )
+    if bound is True:
+        return {}
+    if not isinstance(bound, dict):
+        raise MechanismError(f"bound must be True, False or a dict of options, got {bound!r}")
+    known = ("around", "max_boxes", "time_limit", "rtol", "branch")
+    for k in bound:
+        if k not in known:
+            raise MechanismError(f"bound: no option {k!r}; the options: {', '.join(known)}")
+    opts = dict(bound)
+    if "around" in opts:
+        opts["around"] = validate.number("bound['around']", opts["around"], "m")
+        if not opts["around"] > 0:
+            raise MechanismError(f"bound['around'] must be positive (m), got {opts['around']}")
+    return opts
+
+
+def _with_bound(res: PathResult, angles, bounds, opts) -> PathResult:
+    """``res`` with the lower bound of :mod:`~mechsynth.synthesis.path_bound`."""
+    from dataclasses import replace
+
+    from .path_bound import path_bound, region_around
+
+    opts = dict(opts)
+    opts.setdefault("time_limit", 20.0)
+    around = opts.pop("around", None)
+    if res.best is None:
+        return res
+    if around is not None:
+        b = res.best
+        phi1 = float(b.angles[0])
+        region = region_around({k: getattr(b, k) for k in NAMES}, phi1, around)
+        pb = path_bound(res.targets, angles, region=region, best=res.error, **opts)
+    else:
+        pb = path_bound(res.targets, angles, bounds=bounds, best=res.error, **opts)
+    return replace(res, bound=pb)
 
 
 def _reversed(res: PathResult, t) -> PathResult:

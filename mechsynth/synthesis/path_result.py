@@ -147,6 +147,8 @@ class PathResult:
     starts : local solves run; ``distinct``: distinct optima among them.
     status : ``"optimal"``, ``"infeasible"`` (no start ended feasible), ``"interrupted"``.
     seconds : wall time.
+    bound : with ``bound=``, the proved lower bound on the error and the gap to the best
+        (a :class:`~mechsynth.synthesis.path_bound.PathBound`), else None.
     """
 
     targets: np.ndarray
@@ -163,6 +165,7 @@ class PathResult:
     error_definition: str
     bounds: dict = field(default_factory=dict)
     message: str = ""
+    bound: object = None
 
     @property
     def success(self) -> bool:
@@ -232,6 +235,8 @@ class PathResult:
         else:
             text = ", ".join(f"{k} {v:.6g}" for k, v in b.values.items())
         lines.append("best: " + text)
+        if self.bound is not None:
+            lines.append("lower bound: " + self.bound.summary())
         return "\n".join(lines)
 
     def as_dict(self) -> dict:
@@ -250,6 +255,7 @@ class PathResult:
             "message": self.message,
             "best": None if self.best is None else self.best.as_dict(),
             "solutions": [s.as_dict() for s in self.solutions],
+            "bound": None if self.bound is None else self.bound.as_dict(),
         }
 
     def figure(self, n: int = 360, show: int | None = None):
