@@ -287,7 +287,7 @@ def test_bad_inputs_are_named():
     with pytest.raises(MechanismError, match="full turn"):
         BeamPumpingUnit(3, 4, 3, 4, 3, 4)
     with pytest.raises(ValueError, match="H and G"):
-        BeamPumpingUnit.from_api(A=1, C=1, I=1, P=1, R=0.2)
+        BeamPumpingUnit.from_api(A=1, C=1, I=1, P=1, R=0.2, units="m")
     with pytest.raises(ValueError, match="units"):
         BeamPumpingUnit.from_api(**C320, units="ft")
     with pytest.raises(ValueError, match="H .* must exceed G"):
