@@ -18,10 +18,20 @@ from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
 
-from ..errors import MechanismError
+from ..errors import MechanismError, UsageError
 from . import ops
 
-__all__ = ["Jet", "PointJet", "PointTrack", "LinkTrack", "SliderTrack", "Motion", "to_time"]
+__all__ = [
+    "Jet",
+    "PointJet",
+    "PointTrack",
+    "LinkTrack",
+    "SliderTrack",
+    "Motion",
+    "to_time",
+    "Tracks",
+    "UnknownNameError",
+]
 
 
 class Jet(NamedTuple):
@@ -200,6 +210,50 @@ class SliderTrack:
         return _slider_track(*to_time(j, omega, epsilon))
 
 
+class UnknownNameError(UsageError, KeyError):
+    """A point, link or slider a motion does not have (``motion.links["nope"]``): a
+    :class:`~mechsynth.errors.MechanismError` naming the known ones, and a ``KeyError``, so
+    ``except KeyError`` and ``dict.get`` keep working."""
+
+    __str__ = BaseException.__str__  # KeyError's would quote the whole message
+
+
+class Tracks(dict):
+    """A motion's named tracks (``motion.points``, ``.links``, ``.sliders``): a plain dict
+    whose missing name raises :class:`UnknownNameError` naming the known names. Only a miss
+    costs anything: lookups, iteration and ``get`` are dict's own."""
+
+    __slots__ = ()
+    what = "track"
+
+    def __missing__(self, name):
+        from difflib import get_close_matches
+
+        known = sorted(map(str, self))
+        close = [k for k in known if k.lower() == str(name).lower()]
+        close = close or get_close_matches(str(name), known, n=1, cutoff=0.6)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        raise UnknownNameError(
+            f"no {self.what} {name!r} in this motion{hint}; its {self.what}s: "
+            + (", ".join(known) if known else "none")
+        )
+
+
+class _Points(Tracks):
+    __slots__ = ()
+    what = "point"
+
+
+class _Links(Tracks):
+    __slots__ = ()
+    what = "link"
+
+
+class _Sliders(Tracks):
+    __slots__ = ()
+    what = "slider"
+
+
 @dataclass(frozen=True)
 class Motion:
     """Motion of a mechanism over the crank angles ``phi``.
@@ -211,6 +265,8 @@ class Motion:
     points : named :class:`PointTrack` objects (``motion.points["B"]``).
     links : named :class:`LinkTrack` objects (``motion.links["rocker"]``).
     sliders : named :class:`SliderTrack` objects; the main one is also ``motion.slider``.
+        The three are :class:`Tracks` dicts: a name they lack raises :class:`UnknownNameError`
+        (a MechanismError and a KeyError) listing the names they have.
     pressure_angle : angle (rad, in [0, pi/2]) between the force a driving link transmits to the
         output and the output's velocity, at every angle.
     transmission_angle : the transmission angle (rad, in [0, pi/2]), the design quantity: the
@@ -238,6 +294,15 @@ class Motion:
     pressure_angles: dict[str, Any] = field(default_factory=dict)
     raw_transmission_angles: dict[str, Any] = field(default_factory=dict)
 
+    def __post_init__(self):
+        d = self.__dict__  # the named tracks as Tracks: a missing name says what there is
+        if type(self.points) is not _Points:
+            d["points"] = _Points(self.points)
+        if type(self.links) is not _Links:
+            d["links"] = _Links(self.links)
+        if type(self.sliders) is not _Sliders:
+            d["sliders"] = _Sliders(self.sliders)
+
     @property
     def transmission_angle(self):
         """The transmission angle (rad, in [0, pi/2]): the raw angle folded, ``pi - mu`` for
@@ -259,10 +324,10 @@ class Motion:
         :class:`Jet`; a track given instead of a jet is taken as it is, e.g. a frame pivot's or
         the crank's) at the crank speed ``omega`` and acceleration ``epsilon``, with empty
         ``extra``, ``pressure_angles`` and ``raw_transmission_angles``: where the named mechanisms'
-        motions end. The three dicts become the motion's own: their jets are replaced by
-        tracks in place. Built without the frozen dataclasses' ``__init__`` (see
-        :func:`_point_track`)."""
+        motions end. The three dicts are copied into :class:`Tracks`, the motion's own. Built
+        without the frozen dataclasses' ``__init__`` (see :func:`_point_track`)."""
         pt, lt, st = PointTrack, LinkTrack, SliderTrack
+        points, links, sliders = _Points(points), _Links(links), _Sliders(sliders)
         if type(epsilon) is float and epsilon == 0.0 and type(omega) is float and omega == 1.0:
             # the analogs themselves, unpacked into the tracks' fields here (as _point_track,
             # _link_track and _slider_track do: one call less per track)
