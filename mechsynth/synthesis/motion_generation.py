@@ -743,12 +743,12 @@ def plot_motion(bm: Burmester, candidate: Candidate | None = None, ax=None, titl
                 both = np.concatenate([c, z])
                 near = np.all((both > view_lo) & (both < view_hi), axis=1)
                 pts.append(both[near])
-        rp = bm.rp_dyads()
-        if rp:
-            c = np.array([d.centre for d in rp])
-            ax.plot(c[:, 0] / k, c[:, 1] / k, "D", mfc="none", color=PALETTE[2], ms=7,
+        rp = np.array([d.centre for d in bm.rp_dyads()]).reshape(-1, 2)
+        rp = rp[np.all((rp > view_lo) & (rp < view_hi), axis=1)]
+        if len(rp):  # the block pivots in view (an RP dyad's pivot is often far away)
+            ax.plot(rp[:, 0] / k, rp[:, 1] / k, "D", mfc="none", color=PALETTE[2], ms=7,
                     label="RP dyads' block pivots")  # fmt: skip
-            pts.append(c[np.all((c > view_lo) & (c < view_hi), axis=1)])
+            pts.append(rp)
         lo = np.min(np.concatenate(pts), axis=0)
         hi = np.max(np.concatenate(pts), axis=0)
         size = max(float(np.max(hi - lo)), span)
