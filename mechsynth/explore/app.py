@@ -60,6 +60,7 @@ from .model import (
     solve_worker,
     sweep_chart,
 )
+from .synthesis_tab import SynthesisTab
 
 __all__ = ["Explorer", "serve", "free_port", "label_of"]
 
@@ -147,6 +148,7 @@ class Explorer:
         self._synth = None  # the running motion-generation search (a future)
         self._candidates = []
         self._build_widgets(source)
+        self.synthesis = SynthesisTab(self)  # path and function generation, clicked targets
         self.editing = Editing(self)  # joints dragged, linkages built, undo, the URL
         self._rebuild_dims()
         self._refresh(None)
@@ -721,6 +723,7 @@ class Explorer:
         self.state.units = event.new
         self._rebuild_dims()
         self._refresh(None)
+        self.synthesis.units_changed()
 
     def _on_speed(self, event):
         if self._building:
@@ -1129,6 +1132,7 @@ class Explorer:
         if self._proc is not None:
             self._proc.terminate()
             self._end_solve()
+        self.synthesis.close()
 
     def _end_solve(self):
         proc, self._proc = self._proc, None
@@ -1195,6 +1199,7 @@ class Explorer:
                 )
         self._poll_sweep()
         self._poll_synthesis()
+        self.synthesis.poll()
 
     def _objective_unit(self) -> str:
         from ..synthesis.problem_file import parse_measure
@@ -1298,8 +1303,9 @@ class Explorer:
         self.src_targets.data = dict(
             x=x.tolist(),
             y=y.tolist(),
-            xs=[[a, a + r * math.cos(g)] for a, g in zip(x, t[:, 2])],
-            ys=[[b, b + r * math.sin(g)] for b, g in zip(y, t[:, 2])],
+            # a target point (path generation) has no angle: no line
+            xs=[[a, a + r * math.cos(g)] if g == g else [a, a] for a, g in zip(x, t[:, 2])],
+            ys=[[b, b + r * math.sin(g)] if g == g else [b, b] for b, g in zip(y, t[:, 2])],
         )
 
     # ------------------------------------------------------------------ chart
@@ -1648,6 +1654,7 @@ class Explorer:
             pn.Row(self.synth_pick, self.synth_load),
             sizing_mode="stretch_width",
         )
+        synth_tab = self.synthesis.panel(synth_tab)
         export_tab = pn.Column(
             pn.pane.HTML(
                 "The problem file runs with <code>mechsynth optimize FILE</code>; the design "

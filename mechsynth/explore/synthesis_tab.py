@@ -1,0 +1,735 @@
+"""The page's Synthesis tab: path generation and function generation beside the motion
+generation of :mod:`.app`, with a canvas of their own where a click places a target point (path
+generation) or a pose (motion generation), and a preview that plays a solution moving over its
+targets in the browser.
+
+The path search runs the library's :func:`mechsynth.path_generation` in a worker process
+(progress from its starts, Cancel ends it at once, the page stays live); a function generator
+(:func:`mechsynth.function_generation`, fast) runs in the page's worker thread. Loading a
+solution makes it the page's mechanism (:mod:`.synthesis_model` gives its linkage), which then
+animates, optimizes and exports like any other.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import multiprocessing
+import queue
+import time
+
+import numpy as np
+
+from ..errors import MechanismError
+from .model import parse_number
+from .synthesis_model import (
+    DEFAULT_POINTS,
+    FunctionJob,
+    PathJob,
+    function_preview,
+    function_state,
+    parse_pairs,
+    parse_points,
+    path_preview,
+    path_rows,
+    path_state,
+    path_worker,
+    run_function,
+)
+
+__all__ = ["SynthesisTab"]
+
+# the preview's script: draws frame k of the solution sent in 'synth-frames' ('synth-meta'
+# gives its links), plays it, and fits the view to 'synth-view' with equal scales
+PREVIEW_JS = r"""
+const M = meta.data.json.length ? JSON.parse(meta.data.json[0]) : null;
+function draw(k) {
+  if (!M || !M.n) { links.data = {xs: [], ys: []}; pins.data = {x: [], y: [], name: []}; return; }
+  k = ((Math.round(k) % M.n) + M.n) % M.n;
+  const F = frames.data, xs = [], ys = [];
+  for (const l of M.links) {
+    xs.push(l.map(p => F['x:' + p][k])); ys.push(l.map(p => F['y:' + p][k]));
+  }
+  links.data = {xs: xs, ys: ys};
+  pins.data = {x: M.pins.map(p => F['x:' + p][k]), y: M.pins.map(p => F['y:' + p][k]),
+               name: M.pins};
+}
+function fit() {
+  const V = view.data;
+  if (!V.x0 || !V.x0.length) return;
+  let [x0, x1, y0, y1] = [V.x0[0], V.x1[0], V.y0[0], V.y1[0]];
+  const w = fig.inner_width || 500, h = fig.inner_height || 300;
+  const m = 0.08 * Math.max(x1 - x0, y1 - y0, 1e-12);
+  const s = Math.max((x1 - x0 + 2 * m) / w, (y1 - y0 + 2 * m) / h);
+  const cx = (x0 + x1) / 2, cy = (y0 + y1) / 2;
+  fig.x_range.setv({start: cx - s * w / 2, end: cx + s * w / 2});
+  fig.y_range.setv({start: cy - s * h / 2, end: cy + s * h / 2});
+}
+if (what === 'view' || what === 'resize') fit();
+if (what === 'meta') { slider.end = Math.max((M && M.n) ? M.n - 1 : 1, 1); draw(slider.value); }
+if (what === 'frame') draw(slider.value);
+if (what === 'play') {
+  if (window._msPreview) { clearInterval(window._msPreview); window._msPreview = null;
+                           play.label = 'Play preview'; }
+  else if (M && M.n) {
+    play.label = 'Pause preview';
+    window._msPreview = setInterval(() => {
+      slider.value = (slider.value + 1) % M.n;
+    }, 25);
+  }
+}
+"""
+
+
+class SynthesisTab:
+    """Path and function generation in the page of ``app`` (its :class:`~.app.Explorer`)."""
+
+    def __init__(self, app):
+        import panel as pn
+        from bokeh.events import Tap
+        from bokeh.models import Button, ColumnDataSource, CustomJS, Slider
+        from bokeh.plotting import figure
+
+        from .app import _widget
+
+        self.app = app
+        self._proc = None
+        self._queue = None
+        self._t0 = 0.0
+        self._stage = ""
+        self._result = None  # the last path result
+        self._targets = None  # its targets (m)
+        self._function = None  # the running function generation (a future)
+        self._fg = None  # the last function generator
+        self._fitted = None  # the extent the canvas was last fitted to (display units)
+
+        # the canvas: targets, poses, the previewed solution
+        self.fig = figure(
+            height=360, min_width=280, sizing_mode="stretch_width",
+            tools="pan,wheel_zoom,reset", title="click to place a target point or a pose",
+            x_axis_label="x", y_axis_label="y", name="synth-canvas",
+        )  # fmt: skip
+        self.fig.toolbar.active_scroll = None
+        self.fig.toolbar.active_drag = None  # a click places; pan is a click away
+        self.src_curve = ColumnDataSource(dict(x=[], y=[]), name="synth-curve")
+        self.src_links = ColumnDataSource(dict(xs=[], ys=[]), name="synth-links")
+        self.src_pins = ColumnDataSource(dict(x=[], y=[], name=[]), name="synth-pins")
+        self.src_points = ColumnDataSource(dict(x=[], y=[], label=[]), name="synth-points")
+        self.src_poses = ColumnDataSource(dict(x=[], y=[], xs=[], ys=[]), name="synth-poses")
+        self.src_frames = ColumnDataSource(dict(), name="synth-frames")
+        self.src_meta = ColumnDataSource(dict(json=[]), name="synth-meta")
+        self.src_view = ColumnDataSource(dict(x0=[], x1=[], y0=[], y1=[]), name="synth-view")
+        f = self.fig
+        f.line("x", "y", source=self.src_curve, line_color="#009E73", line_width=2,
+               line_dash="dashed", name="synth-curve-line")  # fmt: skip
+        f.multi_line("xs", "ys", source=self.src_links, line_color="#0072B2", line_width=4,
+                     name="synth-link-lines")  # fmt: skip
+        f.scatter("x", "y", source=self.src_pins, size=7, fill_color="white",
+                  line_color="black", name="synth-pin-marks")  # fmt: skip
+        f.multi_line("xs", "ys", source=self.src_poses, line_color="#E69F00", line_width=3,
+                     name="synth-pose-axes")  # fmt: skip
+        f.scatter("x", "y", source=self.src_poses, marker="square", size=10,
+                  fill_color="#E69F00", line_color="black", name="synth-pose-marks")  # fmt: skip
+        f.scatter("x", "y", source=self.src_points, marker="circle", size=10,
+                  fill_color="#D55E00", line_color="black", name="synth-point-marks")  # fmt: skip
+        f.text("x", "y", text="label", source=self.src_points, x_offset=6, y_offset=-6,
+               text_font_size="11px", name="synth-point-labels")  # fmt: skip
+        f.on_event(Tap, self._on_tap)
+        self.frame = Slider(start=0, end=1, value=0, step=1, title="preview frame",
+                            show_value=False, sizing_mode="stretch_width", min_width=150,
+                            name="synth-frame")  # fmt: skip
+        self.play = Button(label="Play preview", width=110, name="synth-play")
+        args = dict(meta=self.src_meta, frames=self.src_frames, links=self.src_links,
+                    pins=self.src_pins, view=self.src_view, fig=self.fig, slider=self.frame,
+                    play=self.play)  # fmt: skip
+
+        def js(what):
+            return CustomJS(args=args, code=f"const what = {what!r};\n" + PREVIEW_JS)
+
+        self.src_meta.js_on_change("data", js("meta"))
+        self.src_view.js_on_change("data", js("view"))
+        self.frame.js_on_change("value", js("frame"))
+        self.play.js_on_event("button_click", js("play"))
+        self.fig.js_on_change("inner_width", js("resize"))
+        self.fig.js_on_change("inner_height", js("resize"))
+
+        # path generation
+        self.points_input = _widget(
+            pn.widgets.TextAreaInput,
+            self._points_label(),
+            value=DEFAULT_POINTS,
+            height=150,
+            min_width=260,
+            max_width=600,
+            sizing_mode="stretch_width",
+            css_classes=["path-points"],
+        )
+        self.points_input.param.watch(lambda e: self._draw_inputs(), "value")
+        self.timing = _widget(
+            pn.widgets.Select,
+            "Timing",
+            options={
+                "free: the crank angle at each point is free": "free",
+                "shape only: a closed path's shape, placed anywhere": "shape",
+            },
+            value="free",
+            width=330,
+        )
+        self.path_mu = _widget(
+            pn.widgets.TextInput, "Minimum transmission angle, deg", value="30", width=190
+        )
+        self.path_starts = _widget(
+            pn.widgets.IntInput, "Path starts", start=1, end=200, value=6, width=100
+        )
+        self.path_button = _widget(
+            pn.widgets.Button, "Find path generators", button_type="primary", width=170
+        )
+        self.path_button.on_click(lambda e: app._later(self.start_path))
+        self.path_cancel = _widget(
+            pn.widgets.Button, "Cancel the search", button_type="warning", width=140,
+            disabled=True,
+        )  # fmt: skip
+        self.path_cancel.on_click(lambda e: app._later(self.cancel_path))
+        self.path_progress = pn.indicators.Progress(
+            value=0, max=1, width=160, active=False, visible=False, align="center"
+        )
+        self.path_msg = pn.pane.HTML("", sizing_mode="stretch_width", css_classes=["path-msg"])
+        self.path_table = pn.pane.HTML("", sizing_mode="stretch_width", css_classes=["path-tbl"])
+        self.path_pick = _widget(pn.widgets.Select, "Path solution", options=[], width=130)
+        self.path_pick.param.watch(lambda e: app._later(self.preview_path), "value")
+        self.path_load = _widget(
+            pn.widgets.Button, "Load the path generator", width=200, disabled=True
+        )
+        self.path_load.on_click(lambda e: app._later(self.load_path))
+
+        # function generation
+        self.fn_text = _widget(pn.widgets.TextInput, "y = f(x)", value="log10(x)", width=200)
+        self.fn_x0 = _widget(pn.widgets.TextInput, "x from", value="1", width=90)
+        self.fn_x1 = _widget(pn.widgets.TextInput, "x to", value="10", width=90)
+        self.fn_in = _widget(pn.widgets.TextInput, "Input rotation, deg", value="60", width=150)
+        self.fn_out = _widget(pn.widgets.TextInput, "Output rotation, deg", value="90", width=150)
+        self.fn_pairs = _widget(
+            pn.widgets.TextAreaInput,
+            "or precision pairs instead of a function, one a line: crank angle, output "
+            "angle (deg)",
+            value="",
+            height=90,
+            min_width=260,
+            max_width=600,
+            sizing_mode="stretch_width",
+        )
+        self.fn_ground = _widget(
+            pn.widgets.TextInput, self._ground_label(), value=self._ground_text(), width=150
+        )
+        self.fn_mu = _widget(
+            pn.widgets.TextInput, "Least transmission angle, deg", value="30", width=190
+        )
+        self.fn_crank = _widget(pn.widgets.Checkbox, "the crank turns fully", value=True)
+        self.fn_button = _widget(
+            pn.widgets.Button, "Generate the function", button_type="primary", width=180
+        )
+        self.fn_button.on_click(lambda e: app._later(self.start_function))
+        self.fn_msg = pn.pane.HTML("", sizing_mode="stretch_width", css_classes=["fn-msg"])
+        self.fn_design = pn.pane.HTML("", sizing_mode="stretch_width", css_classes=["fn-design"])
+        self.err_fig = figure(
+            height=240, min_width=280, sizing_mode="stretch_width", tools="pan,wheel_zoom,reset",
+            title="structural error", x_axis_label="x", y_axis_label="output error, deg",
+            name="function-error",
+        )  # fmt: skip
+        self.err_fig.toolbar.active_scroll = None
+        self.src_err = ColumnDataSource(dict(x=[], y=[]), name="function-error-curve")
+        self.src_prec = ColumnDataSource(dict(x=[], y=[]), name="function-precision")
+        self.err_fig.line("x", "y", source=self.src_err, line_width=2, color="#D55E00",
+                          legend_label="true output - ideal output")  # fmt: skip
+        self.err_fig.scatter("x", "y", source=self.src_prec, size=8, color="#0072B2",
+                             legend_label="precision points")  # fmt: skip
+        self.err_fig.legend.location = "top_left"
+        self.err_fig.legend.label_text_font_size = "10px"
+        self.fn_load = _widget(
+            pn.widgets.Button, "Load the function generator", width=220, disabled=True
+        )
+        self.fn_load.on_click(lambda e: app._later(self.load_function))
+
+        # motion generation: a click places a pose with this angle
+        self.pose_angle = _widget(
+            pn.widgets.TextInput, "Angle of a clicked pose, deg", value="0", width=200
+        )
+        app.poses_input.param.watch(lambda e: self._draw_inputs(), "value")
+        self._draw_inputs()
+
+    # ------------------------------------------------------------------ layout
+    def panel(self, motion):
+        """The tab: the canvas and its preview player, then path, function and motion
+        generation (``motion``: the page's motion-generation widgets) as sub-tabs."""
+        import panel as pn
+
+        help_ = pn.pane.HTML(
+            "<b>Path generation</b>: a four-bar whose coupler point passes as near as possible "
+            "to the target points (<code>ms.path_generation</code>), with the crank turning "
+            "fully. A click on the canvas above adds a point; the list can be typed or pasted."
+        )
+        path = pn.Column(
+            help_,
+            self.points_input,
+            pn.FlexBox(self.timing, self.path_mu, self.path_starts),
+            pn.Row(self.path_button, self.path_cancel, self.path_progress),
+            self.path_msg,
+            self.path_table,
+            pn.Row(self.path_pick, self.path_load),
+            sizing_mode="stretch_width",
+        )
+        function = pn.Column(
+            pn.pane.HTML(
+                "<b>Function generation</b>: a four-bar whose rocker turns by y = f(x) as its "
+                "crank turns by x (<code>ms.function_generation</code>: three precision points "
+                "at Chebyshev spacing, the phases scanned), or through precision pairs."
+            ),
+            pn.FlexBox(self.fn_text, self.fn_x0, self.fn_x1, self.fn_in, self.fn_out),
+            self.fn_pairs,
+            pn.FlexBox(self.fn_ground, self.fn_mu, self.fn_crank),
+            self.fn_button,
+            self.fn_msg,
+            self.fn_design,
+            pn.pane.Bokeh(self.err_fig, sizing_mode="stretch_width"),
+            self.fn_load,
+            sizing_mode="stretch_width",
+        )
+        motion = pn.Column(
+            pn.pane.HTML(
+                "A click on the canvas above adds a pose at the angle given here (or type the "
+                "poses below)."
+            ),
+            self.pose_angle,
+            motion,
+            sizing_mode="stretch_width",
+        )
+        self.tasks = pn.Tabs(
+            ("Path generation", path),
+            ("Function generation", function),
+            ("Motion generation", motion),
+            dynamic=False,
+            sizing_mode="stretch_width",
+        )
+        from bokeh.layouts import column, row
+
+        canvas = pn.pane.Bokeh(
+            column(self.fig, row(self.play, self.frame, sizing_mode="stretch_width"),
+                   sizing_mode="stretch_width"),
+            sizing_mode="stretch_width",
+        )  # fmt: skip
+        return pn.Column(canvas, self.tasks, sizing_mode="stretch_width")
+
+    # ------------------------------------------------------------------ labels
+    def _points_label(self) -> str:
+        unit = self.app.state.unit_label("m")
+        return f"Target points of the coupler point, one a line: x, y ({unit})"
+
+    def _ground_label(self) -> str:
+        return f"Ground length, {self.app.state.unit_label('m')}"
+
+    def _ground_text(self) -> str:
+        return f"{self.app.state.shown(0.1, 'm'):.6g}"
+
+    # ------------------------------------------------------------------ canvas
+    def _on_tap(self, event):
+        self.app._later(self.click, float(event.x), float(event.y))
+
+    def click(self, x: float, y: float):
+        """A click on the canvas at ``(x, y)`` (display length unit): a target point when the
+        path generation is shown, a pose (at the angle field's value) when the motion
+        generation is; nothing on the function generation."""
+        task = getattr(self, "tasks", None)
+        active = task.active if task is not None else 0
+        if active == 0:
+            self.points_input.value = _append(self.points_input.value, f"{x:.6g}, {y:.6g}")
+        elif active == 2:
+            try:
+                angle = parse_number(self.pose_angle.value, "angle of a clicked pose, deg")
+            except MechanismError as exc:
+                self.app.synth_msg.object = _bad(exc)
+                return
+            self.app.poses_input.value = _append(
+                self.app.poses_input.value, f"{x:.6g}, {y:.6g}, {angle:.6g}"
+            )
+
+    def _draw_inputs(self):
+        """The typed or clicked targets and poses on the canvas (lines that do not read are
+        left out here; the search names them)."""
+        pts = _rows(self.points_input.value, 2)
+        self.src_points.data = dict(
+            x=[p[0] for p in pts], y=[p[1] for p in pts],
+            label=[str(i) for i in range(1, len(pts) + 1)],
+        )  # fmt: skip
+        poses = _rows(self.app.poses_input.value, 3)
+        ext = _extent(pts + [p[:2] for p in poses])
+        r = 0.06 * max(ext[1] - ext[0], ext[3] - ext[2]) if ext else 0.0
+        self.src_poses.data = dict(
+            x=[p[0] for p in poses], y=[p[1] for p in poses],
+            xs=[[p[0], p[0] + r * math.cos(math.radians(p[2]))] for p in poses],
+            ys=[[p[1], p[1] + r * math.sin(math.radians(p[2]))] for p in poses],
+        )  # fmt: skip
+        unit = self.app.state.unit_label("m")
+        self.fig.xaxis.axis_label = f"x, {unit}"
+        self.fig.yaxis.axis_label = f"y, {unit}"
+        if ext and not _inside(ext, self._fitted):
+            self._fit(ext)
+
+    def _fit(self, ext):
+        x0, x1, y0, y1 = ext
+        if x1 - x0 < 1e-12 and y1 - y0 < 1e-12:
+            x0, x1, y0, y1 = x0 - 1, x1 + 1, y0 - 1, y1 + 1
+        self._fitted = (x0, x1, y0, y1)
+        self.src_view.data = dict(x0=[x0], x1=[x1], y0=[y0], y1=[y1])
+
+    def _show_preview(self, cols: dict, links, pins, curve=None, extra=()):
+        """Send a solution's cycle (``cols``: point -> (n, 2) in m) to the browser."""
+        f = self.app.state.display.factor("m")
+        data, n = {}, 0
+        for p, xy in cols.items():
+            xy = np.asarray(xy, float) / f
+            data[f"x:{p}"], data[f"y:{p}"] = xy[:, 0].tolist(), xy[:, 1].tolist()
+            n = len(xy)
+        self.src_frames.data = data
+        self.src_meta.data = dict(json=[json.dumps(dict(n=n, links=links, pins=pins))])
+        if curve is not None:
+            c = np.asarray(curve, float) / f
+            self.src_curve.data = dict(x=c[:, 0].tolist() + [float(c[0, 0])],
+                                       y=c[:, 1].tolist() + [float(c[0, 1])])  # fmt: skip
+        else:
+            self.src_curve.data = dict(x=[], y=[])
+        allp = np.concatenate([np.asarray(v, float) for v in cols.values()]) / f
+        ext = _extent([tuple(r) for r in allp] + list(extra))
+        self._fit(ext)
+
+    def clear_preview(self):
+        self.src_frames.data = {}
+        self.src_meta.data = dict(json=[json.dumps(dict(n=0, links=[], pins=[]))])
+        self.src_curve.data = dict(x=[], y=[])
+
+    # ------------------------------------------------------------------ path generation
+    def path_job(self) -> PathJob:
+        """The search the fields ask for (MechanismError names a bad field)."""
+        st = self.app.state
+        targets = parse_points(self.points_input.value, st)
+        mu_text = (self.path_mu.value or "").strip()
+        mu = None
+        if mu_text:
+            mu = math.radians(parse_number(mu_text, "minimum transmission angle, deg"))
+        return PathJob(targets, self.timing.value, mu, int(self.path_starts.value or 1))
+
+    def start_path(self):
+        if self._proc is not None:
+            return
+        try:
+            job = self.path_job()
+        except MechanismError as exc:
+            self.path_msg.object = _bad(exc, "path-state")
+            return
+        ctx = multiprocessing.get_context("spawn")
+        self._queue = ctx.Queue()
+        self._proc = ctx.Process(target=path_worker, args=(job, self._queue), daemon=True)
+        self._proc.start()
+        self._job = job
+        self._t0 = time.perf_counter()
+        self._stage = "starting the search"
+        self.path_button.disabled = True
+        self.path_cancel.disabled = False
+        self.path_progress.param.update(visible=True, active=True, value=-1)
+        self.path_msg.object = "<span id='path-state'>searching: starting the search...</span>"
+
+    def cancel_path(self):
+        if self._proc is None:
+            return
+        self._proc.terminate()
+        self._end_path()
+        self.path_msg.object = "<span id='path-state'>cancelled</span>"
+
+    def close(self):
+        """Stop a running search (the session ended)."""
+        if self._proc is not None:
+            self._proc.terminate()
+            self._end_path()
+
+    def _end_path(self):
+        proc, self._proc = self._proc, None
+        if proc is not None:  # reaped: no zombie process stays behind
+            proc.join(timeout=5)
+            if proc.is_alive():
+                proc.kill()
+                proc.join(timeout=5)
+            if not proc.is_alive():
+                proc.close()
+        if self._queue is not None:
+            self._queue.close()
+        self._queue = None
+        self.path_button.disabled = False
+        self.path_cancel.disabled = True
+        self.path_progress.param.update(active=False, visible=False)
+
+    def poll(self):
+        """Collect the search's messages and the function generator (periodic callback)."""
+        self._poll_function()
+        if self._queue is None:
+            return
+        while self._queue is not None:
+            try:
+                msg = self._queue.get_nowait()
+            except (queue.Empty, OSError, ValueError):
+                break
+            if msg[0] == "progress":
+                _, desc, k, total = msg
+                if total:
+                    self.path_progress.param.update(max=total, value=min(k, total))
+                self._stage = f"start {k} of {total or '?'}"
+            elif msg[0] == "done":
+                self._end_path()
+                self.show_path(msg[1], self._job.targets)
+                return
+            elif msg[0] == "error":
+                self._end_path()
+                self.path_msg.object = _bad(f"the search failed: {msg[1]}", "path-state")
+                return
+        if self._proc is not None and not self._proc.is_alive() and self._queue.empty():
+            self._end_path()
+            self.path_msg.object = _bad("the search's process ended without a result",
+                                        "path-state")  # fmt: skip
+            return
+        if self._proc is not None:
+            elapsed = time.perf_counter() - self._t0
+            self.path_msg.object = (
+                f"<span id='path-state'>searching: {self._stage} ({elapsed:.0f} s)</span>"
+            )
+
+    def show_path(self, res, targets):
+        """A finished search: its ranked solutions in the table, the best previewed."""
+        self._result, self._targets = res, np.asarray(targets, float)
+        rows = path_rows(res)
+        if not rows:
+            self.path_msg.object = _bad(
+                f"no four-bar found ({res.status}{': ' + res.message if res.message else ''}"
+                "): try more starts, a smaller minimum transmission angle or other points",
+                "path-state",
+            )
+            self.path_table.object = ""
+            self.path_pick.options = []
+            self.path_load.disabled = True
+            self.clear_preview()
+            return
+        fmt = self.app._fmt
+        st = self.app.state
+        unit = st.unit_label("m")
+        f = st.display.factor("m")
+        html = [
+            "<table id='path-table' style='font-size:13px'><tr><th>rank</th>"
+            f"<th>largest distance, {unit}</th><th>sum of squared distances, {unit}^2</th>"
+            "<th>min transmission angle, deg</th><th>crank</th><th>coupler</th><th>rocker</th>"
+            "<th>ground</th><th>note</th></tr>"
+        ]
+        for r in rows:
+            html.append(
+                f"<tr><td>{r['rank']}</td><td>{r['max_distance'] / f:.4g}</td>"
+                f"<td>{r['error'] / f**2:.4g}</td>"
+                f"<td>{math.degrees(r['transmission']):.1f}</td>"
+                + "".join(f"<td>{fmt(r[k], 'm')}</td>" for k in
+                          ("crank", "coupler", "rocker", "ground"))
+                + f"<td>{r['note'] or ''}</td></tr>"
+            )  # fmt: skip
+        html.append("</table>")
+        self.path_table.object = "".join(html)
+        self.path_msg.object = (
+            f"<span id='path-state'>{len(rows)} four-bars through the {len(targets)} points "
+            f"({res.status}, {res.seconds:.1f} s, {res.starts} starts), best first: pick one to "
+            "preview it over the points, load it to edit, optimize or export it</span>"
+        )
+        options = [str(r["rank"]) for r in rows]
+        if list(self.path_pick.options) == options and self.path_pick.value == "1":
+            self.preview_path()
+        self.path_pick.options = options
+        self.path_pick.value = "1"
+        self.path_load.disabled = False
+
+    def _solution(self):
+        if self._result is None or not self._result.solutions:
+            return None, 0
+        rank = int(self.path_pick.value or 1)
+        return self._result.solutions[rank - 1], rank
+
+    def preview_path(self):
+        sol, _ = self._solution()
+        if sol is None:
+            return
+        pv = path_preview(sol)
+        t = self._targets / self.app.state.display.factor("m")
+        cols = {k: pv[k] for k in ("O1", "A", "B", "O2", "P")}
+        self._show_preview(
+            cols, links=[["O1", "A"], ["A", "B", "P", "A"], ["B", "O2"]],
+            pins=["O1", "A", "B", "O2", "P"], curve=pv["P"], extra=[tuple(r) for r in t],
+        )  # fmt: skip
+
+    def load_path(self):
+        sol, rank = self._solution()
+        app = self.app
+        if sol is None or app._busy("load a solution"):
+            return
+        st = path_state(sol, rank, app.units_select.value)
+        app._load_state(st, None)
+        # the targets on the drawing (points: no angle)
+        app._targets = np.column_stack([self._targets, np.full(len(self._targets), np.nan)])
+        app._draw_targets()
+        if hasattr(app, "tabs"):
+            app.tabs.active = 0
+
+    # ------------------------------------------------------------------ function generation
+    def function_job(self) -> FunctionJob:
+        """The generator the fields ask for (MechanismError names a bad field)."""
+        st = self.app.state
+        ground = st.si(parse_number(self.fn_ground.value, self._ground_label()), "m")
+        mu_text = (self.fn_mu.value or "").strip()
+        mu = math.radians(parse_number(mu_text, "least transmission angle, deg")) if (
+            mu_text) else None  # fmt: skip
+        common = dict(ground=ground, min_transmission=mu, require_crank=bool(self.fn_crank.value))
+        if (self.fn_pairs.value or "").strip():
+            return FunctionJob(pairs=parse_pairs(self.fn_pairs.value), **common)
+        x0 = parse_number(self.fn_x0.value, "x from")
+        x1 = parse_number(self.fn_x1.value, "x to")
+        rin = math.radians(parse_number(self.fn_in.value, "input rotation, deg"))
+        rout = math.radians(parse_number(self.fn_out.value, "output rotation, deg"))
+        return FunctionJob(self.fn_text.value, (x0, x1), rin, rout, **common)
+
+    def start_function(self):
+        from .app import _POOL
+
+        if self._function is not None:
+            return
+        try:
+            job = self.function_job()
+        except MechanismError as exc:
+            self.fn_msg.object = _bad(exc, "function-state")
+            return
+        self.fn_button.disabled = True
+        self.fn_msg.object = "<span id='function-state'>generating...</span>"
+        self._function = _POOL.submit(run_function, job)
+
+    def _poll_function(self):
+        if self._function is None or not self._function.done():
+            return
+        fut, self._function = self._function, None
+        self.fn_button.disabled = False
+        try:
+            fg = fut.result()
+        except (ValueError, TypeError, MechanismError) as exc:
+            self.fn_msg.object = _bad(exc, "function-state")
+            return
+        self.show_function(fg)
+
+    def show_function(self, fg):
+        """A function generator: its structural error curve, its design, its preview."""
+        self._fg = fg
+        fmt = self.app._fmt
+        d = fg.design
+        err = np.degrees(np.asarray(fg.error, float))
+        if fg.precision_x is not None:
+            x, xlabel = np.asarray(fg.x, float), "x"
+            px = np.asarray(fg.precision_x, float)
+        else:
+            x, xlabel = np.degrees(np.asarray(fg.x, float)), "crank angle, deg"
+            px = np.degrees(np.asarray(fg.precision_points, float)[:, 0])
+        self.src_err.data = dict(x=x.tolist(), y=err.tolist())
+        self.src_prec.data = dict(x=px.tolist(), y=[0.0] * len(px))
+        self.err_fig.xaxis.axis_label = xlabel
+        self.err_fig.title.text = (
+            f"structural error ({fg.method}): largest {math.degrees(fg.max_error):.4g} deg"
+        )
+        turns = "turns fully" if d.full_turn else "does not turn fully"
+        self.fn_design.object = (
+            "<div id='function-design'>"
+            f"crank <b>{fmt(d.crank, 'm')}</b>, coupler <b>{fmt(d.coupler, 'm')}</b>, rocker "
+            f"<b>{fmt(d.rocker, 'm')}</b>, ground <b>{fmt(d.ground, 'm')}</b> ({d.branch} "
+            f"branch; the crank {turns}); phases: crank {math.degrees(fg.phases[0]):.2f} deg, "
+            f"rocker {math.degrees(fg.phases[1]):.2f} deg; largest structural error "
+            f"<span id='function-max-error'>{math.degrees(fg.max_error):.4g}</span> deg"
+            + (f" ({fg.max_error_y:.4g} in y)" if fg.max_error_y is not None else "")
+            + f"; least transmission angle {math.degrees(fg.min_transmission_angle):.1f} deg"
+            "</div>"
+        )
+        self.fn_msg.object = (
+            f"<span id='function-state'>a {fg.method} four-bar "
+            + (f"for y = {_esc(fg.function)}" if fg.function else "through the pairs")
+            + ": its motion over the input range is on the canvas above</span>"
+        )
+        self.fn_load.disabled = not d.full_turn
+        pv = function_preview(fg)
+        self._show_preview(pv, links=[["O1", "A"], ["A", "B"], ["B", "O2"]],
+                           pins=["O1", "A", "B", "O2"])  # fmt: skip
+
+    def load_function(self):
+        app = self.app
+        if self._fg is None or app._busy("load a solution"):
+            return
+        try:
+            st = function_state(self._fg, app.units_select.value)
+        except MechanismError as exc:
+            self.fn_msg.object = _bad(exc, "function-state")
+            return
+        app._load_state(st, None)
+        if hasattr(app, "tabs"):
+            app.tabs.active = 0
+
+    # ------------------------------------------------------------------ units
+    def units_changed(self):
+        """The page's units changed: the labels say the new length unit."""
+        from .app import _set_label
+
+        _set_label(self.points_input, self._points_label())
+        _set_label(self.fn_ground, self._ground_label())
+        self._draw_inputs()
+
+
+# ------------------------------------------------------------------------------ helpers
+def _append(text: str | None, line: str) -> str:
+    text = (text or "").rstrip("\n")
+    return f"{text}\n{line}" if text else line
+
+
+def _rows(text, k: int) -> list[tuple[float, ...]]:
+    """The lines of ``text`` that are ``k`` finite numbers (as typed)."""
+    import re
+
+    out = []
+    for line in str(text or "").splitlines():
+        parts = [p for p in re.split(r"[,\s;]+", line.split("#")[0].strip()) if p]
+        if len(parts) != k:
+            continue
+        try:
+            vals = tuple(float(p) for p in parts)
+        except ValueError:
+            continue
+        if all(math.isfinite(v) for v in vals):
+            out.append(vals)
+    return out
+
+
+def _extent(points) -> tuple[float, float, float, float] | None:
+    if not points:
+        return None
+    a = np.asarray(points, float)[:, :2]
+    return (float(a[:, 0].min()), float(a[:, 0].max()), float(a[:, 1].min()),
+            float(a[:, 1].max()))  # fmt: skip
+
+
+def _inside(ext, fitted) -> bool:
+    if fitted is None:
+        return False
+    x0, x1, y0, y1 = fitted
+    m = 0.08 * max(x1 - x0, y1 - y0)
+    return ext[0] >= x0 - m and ext[1] <= x1 + m and ext[2] >= y0 - m and ext[3] <= y1 + m
+
+
+def _esc(text) -> str:
+    import html
+
+    return html.escape(str(text), quote=False)
+
+
+def _bad(text, ident="synth-state") -> str:
+    return f"<span id='{ident}' style='color:#b00'>{_esc(text)}</span>"
