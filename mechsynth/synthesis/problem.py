@@ -267,12 +267,14 @@ class Problem:
         return new
 
     def _transcription(self, n_extra: int = 16):
+        """The smooth program over the base grid and ``n_extra`` refinement slots: this
+        problem's bounds over the expression graph and solvers of its structure, which are
+        built once and shared by every problem of the same structure (a module-level cache of
+        a few structures, :mod:`.transcription`; none is held by the problem, so memory stays
+        flat over many problems)."""
         from .transcription import Transcription
 
-        key = ("transcription", int(n_extra))
-        if key not in self._cache:
-            self._cache[key] = Transcription(self, n_extra)
-        return self._cache[key]
+        return Transcription(self, n_extra)
 
     def _numeric(self):
         """The problem's forms for numpy evaluation (no CasADi)."""

@@ -19,10 +19,20 @@ directly; its derivative is the derivative at the grid's arg-max, which is the t
 The grid is ``N`` uniform base angles plus ``K`` slots for refinement angles. The angles are
 *parameters* of the CasADi function, so refining the grid does not rebuild the solver; the
 epigraph rows of the slots not yet used are left unbounded (:meth:`Transcription.g_bounds`).
+
+Build once, solve many: the expression graph and its solvers belong to the problem's
+*structure* (:func:`structure_key`: the mechanism, the variables' names, the fixed values, the
+speed, the grid's size, the objective and the constraints' measures and comparisons), not to
+one :class:`~mechsynth.synthesis.Problem`. The variables' bounds, the constraints' bounds (a
+Pareto front's epsilon levels), the grid angles and the scales are parameters of the program,
+so every start, refinement and Pareto point of one structure reuses one built solver. The
+structures live in a small least-recently-used cache (:data:`CACHE_SIZE` of them), which keeps
+memory flat across a front; :func:`cache_info` counts the builds.
 """
 
 from __future__ import annotations
 
+from collections import OrderedDict
 from dataclasses import dataclass
 from typing import Any
 
@@ -31,7 +41,16 @@ import numpy as np
 from ..errors import MechanismError, SolverError
 from ..objectives.base import Combination, CycleMeasure, Measure, ScalarMeasure
 
-__all__ = ["Atom", "LinearForm", "flatten", "NumericForms", "Transcription"]
+__all__ = [
+    "Atom",
+    "LinearForm",
+    "flatten",
+    "NumericForms",
+    "Transcription",
+    "structure_key",
+    "cache_info",
+    "clear_cache",
+]
 
 
 @dataclass(frozen=True, eq=False)
@@ -177,44 +196,123 @@ class _Epigraph:
     rows: Any  # SX column of q/T - tau
 
 
-class Transcription(NumericForms):
-    """The smooth NLP of a problem over ``n_base + n_extra`` grid angles.
+#: problem structures (expression graph and built solvers) kept for reuse, least recently used
+#: dropped first: a Pareto front uses three (each anchor's objective, the epsilon points) plus
+#: their refined grids
+CACHE_SIZE = 6
+_STRUCTURES: OrderedDict = OrderedDict()
+_COUNTS = {"structures": 0, "solvers": 0, "variants": 0, "hits": 0}
 
-    Decision vector ``x = [z, tau]``: the design variables scaled to [0, 1] in their box, then
-    the epigraph variables (each scaled by a parameter ``T``). Parameter vector
-    ``p = [phi (n_base + n_extra), f_scale, T (n_epi), g_scale (n_user)]``.
 
-    Attributes
-    ----------
-    lbx, ubx, lbg, ubg : bounds.
-    g_kinds : per row of ``g``: ``("user", i)``, ``("epigraph", k)``, ``("feasibility", name)``.
-    """
+def _value_key(v):
+    """A fixed parameter's value in a cache key: the number, else the object's identity."""
+    try:
+        return ("v", float(v))
+    except (TypeError, ValueError):
+        return ("id", id(v))
 
-    def __init__(self, problem, n_extra: int = 16):
+
+def structure_key(problem, n_extra: int = 16) -> tuple:
+    """What the symbolic program of ``problem`` depends on, as a hashable key: the mechanism,
+    the variables' names, the fixed parameters' values, the speed, the base grid's size, the
+    feasibility margin, the sense, the objective's and each constraint's measure (by identity)
+    and comparison, and the ``n_extra`` refinement slots. The variables' and the constraints'
+    bounds, the grid's angles and the scales are not in it: they are parameters of the
+    program."""
+    cons = []
+    for c in problem.constraints:
+        floor = getattr(c.measure, "floor", None)
+        on_floor = (
+            c.op == "=="
+            and floor is not None
+            and abs(c.bound - floor) <= 1e-12 * max(1.0, abs(floor))
+        )
+        cons.append((id(c.measure), c.op, bool(on_floor)))
+    return (
+        id(problem.mechanism),
+        tuple(problem.names),
+        tuple(sorted((k, _value_key(v)) for k, v in problem.fixed.items())),
+        None if problem.speed is None else float(problem.speed),
+        len(problem.base_angles),
+        float(problem.feasibility_margin),
+        problem.sense,
+        id(problem.objective),
+        tuple(cons),
+        int(n_extra),
+    )
+
+
+def cache_info() -> dict[str, int]:
+    """Counts since the start (or :func:`clear_cache`): ``structures`` (expression graphs
+    built), ``solvers`` (IPOPT solvers and CasADi functions built with their derivatives),
+    ``variants`` (IPOPT solvers for another options set, e.g. a warm start's, built on the
+    derivatives of the structure's first), ``hits`` (transcriptions served from the cache)
+    and ``cached`` (structures held now)."""
+    return {**_COUNTS, "cached": len(_STRUCTURES)}
+
+
+def clear_cache() -> None:
+    """Drop every cached structure and reset the counts of :func:`cache_info`."""
+    _STRUCTURES.clear()
+    _COUNTS.update(structures=0, solvers=0, variants=0, hits=0)
+
+
+def _structure(problem, n_extra: int) -> _Structure:
+    key = structure_key(problem, n_extra)
+    entry = _STRUCTURES.get(key)
+    if entry is not None:
+        _STRUCTURES.move_to_end(key)
+        _COUNTS["hits"] += 1
+        return entry
+    entry = _Structure(problem, n_extra)
+    _COUNTS["structures"] += 1
+    _STRUCTURES[key] = entry
+    while len(_STRUCTURES) > CACHE_SIZE:
+        _STRUCTURES.popitem(last=False)
+    return entry
+
+
+class _Structure:
+    """The smooth NLP of one problem structure over ``n_base + n_extra`` grid angles, and its
+    built solvers (see :class:`Transcription` for the vectors). Holds the measures and the
+    mechanism its key names by identity, so those identities stay unique while it lives."""
+
+    def __init__(self, problem, n_extra: int):
         import casadi as ca
 
-        super().__init__(problem)
-        self.n_extra = int(n_extra)
-
-        z = ca.SX.sym("z", self.n)
-        phi = ca.SX.sym("phi", self.n_base + self.n_extra)
-        f_scale = ca.SX.sym("f_scale")
-        params = design_params(
-            problem, [self.lo[i] + (self.hi[i] - self.lo[i]) * z[i] for i in range(self.n)]
+        forms = NumericForms(problem)
+        # what the key names by identity, held so no other object takes an identity while it lives
+        self.keep = (
+            problem.mechanism,
+            problem.objective,
+            [c.measure for c in problem.constraints],
+            dict(problem.fixed),
         )
+        self.objective, self.constraints = forms.objective, forms.constraints
+        n, n_base = forms.n, forms.n_base
+        self.n_extra = int(n_extra)
+        cls = problem.mechanism
+        n_user = len(problem.constraints)
+
+        z = ca.SX.sym("z", n)
+        phi = ca.SX.sym("phi", n_base + self.n_extra)
+        f_scale = ca.SX.sym("f_scale")
+        lo, hi = ca.SX.sym("lo", n), ca.SX.sym("hi", n)
+        bounds = ca.SX.sym("bound", n_user)
+        params = design_params(problem, [lo[i] + (hi[i] - lo[i]) * z[i] for i in range(n)])
         try:
-            mech = self.cls(**params)
+            mech = cls(**params)
             motion = mech.motion(phi, speed=problem.speed)
         except Exception as exc:  # a model not written with ops
             raise SolverError(
-                f"{self.cls.__name__} cannot be evaluated with CasADi symbols ({exc}); "
-                "use method='de'"
+                f"{getattr(cls, '__name__', type(cls).__name__)} cannot be evaluated with "
+                f"CasADi symbols ({exc}); use method='de'"
             ) from exc
 
         epis: list[_Epigraph] = []
         taus: list[Any] = []
         t_scales: list[Any] = []
-        self._sqrt_tau: list[bool] = []
+        sqrt_tau: list[bool] = []
 
         def column(x):
             x = ca.SX(x) if not isinstance(x, ca.SX) else x
@@ -238,7 +336,7 @@ class Transcription(NumericForms):
                     T = ca.SX.sym(f"T{len(taus)}")
                     taus.append(tau)
                     t_scales.append(T)
-                    self._sqrt_tau.append(atom.sqrt)
+                    sqrt_tau.append(atom.sqrt)
                     epis.append(_Epigraph(atom, q / T - tau))
                     peak = T * tau
                 else:
@@ -249,7 +347,7 @@ class Transcription(NumericForms):
             if atom.kind == "scalar":
                 return atom.measure.fn(mech)
             if atom.kind == "average":
-                samples = column(atom.measure.samples(mech, motion))[: self.n_base]
+                samples = column(atom.measure.samples(mech, motion))[:n_base]
                 from ..objectives.base import reduce_cycle
 
                 return reduce_cycle(samples, atom.measure.reduce)
@@ -275,10 +373,10 @@ class Transcription(NumericForms):
         for i, (c, form) in enumerate(zip(problem.constraints, self.constraints)):
             gs = ca.SX.sym(f"g_scale{i}")
             g_scales.append(gs)
-            floor_form = self._floor_equality(c, form)
+            floor_form = Transcription._floor_equality(c, form)
             if floor_form is not None:
                 q = atom_q(floor_form)
-                rows = (q - c.bound) * gs
+                rows = (q - bounds[i]) * gs
                 g_rows.append(rows)
                 lbg += [-np.inf] * rows.numel()
                 ubg += [0.0] * rows.numel()
@@ -286,7 +384,7 @@ class Transcription(NumericForms):
                 continue
             orientation = {"<=": 1.0, ">=": -1.0, "==": 0.0}[c.op]
             v = form_value(form, orientation)
-            g_rows.append((v - c.bound) * gs)
+            g_rows.append((v - bounds[i]) * gs)
             lbg.append(0.0 if c.op in (">=", "==") else -np.inf)
             ubg.append(0.0 if c.op in ("<=", "==") else np.inf)
             kinds.append(("user", i))
@@ -298,7 +396,7 @@ class Transcription(NumericForms):
             kinds += [("epigraph", k)] * e.rows.numel()
             rows = np.arange(e.rows.numel())
             slots.append(rows % phi.numel() if e.atom.kind == "peak" else np.full(rows.size, -1))
-        hook = getattr(self.cls, "feasibility_constraints", None)
+        hook = getattr(cls, "feasibility_constraints", None)
         self.feasibility_names: list[str] = []
         if hook is not None:
             for name, expr in hook(params, margin=problem.feasibility_margin):
@@ -310,19 +408,109 @@ class Transcription(NumericForms):
 
         self.epigraphs = [e.atom for e in epis]
         self.n_epi = len(taus)
-        self.n_user = len(problem.constraints)
+        self.n_user = n_user
         self.x = ca.vertcat(z, *taus)
-        self.p = ca.vertcat(phi, f_scale, *t_scales, *g_scales)
+        self.p = ca.vertcat(phi, f_scale, *t_scales, *g_scales, lo, hi, bounds)
         self.f = f
         self.g = ca.vertcat(*g_rows) if g_rows else ca.SX(0, 1)
         self.lbg, self.ubg = np.array(lbg, dtype=float), np.array(ubg, dtype=float)
         self.g_kinds = kinds
         self.g_slots = np.concatenate(slots + [np.full(len(lbg) - sum(map(len, slots)), -1)])
-        self.lbx = np.concatenate(
-            [np.zeros(self.n), [0.0 if s else -np.inf for s in self._sqrt_tau]]
-        )
-        self.ubx = np.concatenate([np.ones(self.n), np.full(self.n_epi, np.inf)])
-        self._solvers: dict[Any, Any] = {}
+        self.lbx = np.concatenate([np.zeros(n), [0.0 if s else -np.inf for s in sqrt_tau]])
+        self.ubx = np.concatenate([np.ones(n), np.full(self.n_epi, np.inf)])
+        self.solvers: dict[Any, Any] = {}
+        self.derivatives: dict | None = None  # of the first IPOPT build, for the others
+
+    def solver(self, method: str, options: dict | None = None):
+        """The cached CasADi solver ``method`` ("ipopt") or casadi Functions ("functions")."""
+        import casadi as ca
+
+        key = (method, tuple(sorted((options or {}).items())))
+        if key in self.solvers:
+            return self.solvers[key]
+        if method == "ipopt":
+            opts = {
+                "ipopt.print_level": 0,
+                "print_time": False,
+                "ipopt.sb": "yes",
+                "ipopt.tol": 1e-10,
+                "ipopt.acceptable_tol": 1e-7,
+                "ipopt.constr_viol_tol": 1e-9,
+                "ipopt.max_iter": 500,
+                # a peak's epigraph has one row per grid angle and branch (48 to 288 of
+                # them): their barrier terms hold the epigraph variable about mu times the
+                # row count above the peak (scaled to 1). The adaptive rule raised mu to
+                # 0.1-0.2 early on, the epigraph variables went tens of peaks high and the
+                # solves wandered (the crank-rocker example: 14-57 iterations a start,
+                # 16-20 with the cap). Over the reference problems, the examples and the
+                # impact synthesis, caps of 1e-2 to 2e-3 did best; 1e-2 and above lost the
+                # impact synthesis (benchmarks/bench_synthesis.py --iterations --options)
+                "ipopt.mu_strategy": "adaptive",
+                "ipopt.mu_max": 5e-3,
+                "ipopt.mu_init": 1e-3,  # the monotone rule's start, if options choose it
+                "error_on_fail": False,
+                # designs outside the assemblable region give NaN; IPOPT backtracks
+                "show_eval_warnings": False,
+            }
+            opts.update({f"ipopt.{k}": v for k, v in (options or {}).items()})
+            if "ipopt.print_level" in opts and opts["ipopt.print_level"] > 0:
+                opts["ipopt.sb"] = "no"
+            nlp = {"x": self.x, "p": self.p, "f": self.f, "g": self.g}
+            if self.derivatives is not None:  # another options set: its derivatives reused
+                opts.update(self.derivatives)
+                _COUNTS["variants"] += 1
+            built = ca.nlpsol("mechsynth", "ipopt", nlp, opts)
+            if self.derivatives is None:
+                # generating the Lagrangian's Hessian is most of a build (6 s of 7 for the
+                # impact machine, and 100 MB); a warm start's options reuse it (1 s, 4 MB)
+                self.derivatives = {
+                    k: built.get_function(f"nlp_{v}")
+                    for k, v in (("hess_lag", "hess_l"), ("jac_g", "jac_g"), ("grad_f", "grad_f"))
+                }
+                _COUNTS["solvers"] += 1
+        elif method == "functions":
+            grad = ca.gradient(self.f, self.x)
+            jac = ca.jacobian(self.g, self.x)
+            built = (
+                ca.Function("f", [self.x, self.p], [self.f, grad]),
+                ca.Function("g", [self.x, self.p], [self.g, jac]),
+            )
+            _COUNTS["solvers"] += 1
+        else:
+            raise MechanismError(f"unknown transcription solver {method!r}")
+        self.solvers[key] = built
+        return built
+
+
+class Transcription(NumericForms):
+    """The smooth NLP of a problem over ``n_base + n_extra`` grid angles: the problem's numbers
+    (bounds, scales) over its structure's shared expression graph and solvers.
+
+    Decision vector ``x = [z, tau]``: the design variables scaled to [0, 1] in their box, then
+    the epigraph variables (each scaled by a parameter ``T``). Parameter vector
+    ``p = [phi (n_base + n_extra), f_scale, T (n_epi), g_scale (n_user), lo (n), hi (n),
+    bound (n_user)]``: the grid, the scales, the variables' bounds and the constraints' bounds.
+
+    Attributes
+    ----------
+    lbx, ubx, lbg, ubg : bounds.
+    g_kinds : per row of ``g``: ``("user", i)``, ``("epigraph", k)``, ``("feasibility", name)``.
+    structure : the shared symbolic program (expression graph and built solvers).
+    """
+
+    def __init__(self, problem, n_extra: int = 16):
+        super().__init__(problem)
+        self.n_extra = int(n_extra)
+        s = _structure(problem, self.n_extra)
+        self.structure = s
+        # the structure's forms, so its epigraph atoms are this transcription's atoms
+        self.objective, self.constraints = s.objective, s.constraints
+        for name in (
+            "epigraphs", "n_epi", "n_user", "x", "p", "f", "g", "lbg", "ubg", "g_kinds",
+            "g_slots", "lbx", "ubx", "feasibility_names",
+        ):  # fmt: skip
+            setattr(self, name, getattr(s, name))
+        self._bounds = np.array([c.bound for c in problem.constraints], dtype=float)
 
     @staticmethod
     def _floor_equality(c, form: LinearForm):
@@ -342,7 +530,7 @@ class Transcription(NumericForms):
         full = np.empty(self.n_base + self.n_extra)
         full[: grid.size] = grid
         full[grid.size :] = grid[0]  # unused slots repeat an angle already in the grid
-        return np.concatenate([full, [f_scale], t_scales, g_scales])
+        return np.concatenate([full, [f_scale], t_scales, g_scales, self.lo, self.hi, self._bounds])
 
     def g_bounds(self, n_grid: int):
         """``(lbg, ubg)`` for a grid of ``n_grid`` angles: the epigraph rows of the unused
@@ -355,50 +543,9 @@ class Transcription(NumericForms):
         return lbg, ubg
 
     def solver(self, method: str, options: dict | None = None):
-        """The cached CasADi solver ``method`` ("ipopt") or casadi Functions ("functions")."""
-        import casadi as ca
-
-        key = (method, tuple(sorted((options or {}).items())))
-        if key not in self._solvers:
-            if method == "ipopt":
-                opts = {
-                    "ipopt.print_level": 0,
-                    "print_time": False,
-                    "ipopt.sb": "yes",
-                    "ipopt.tol": 1e-10,
-                    "ipopt.acceptable_tol": 1e-7,
-                    "ipopt.constr_viol_tol": 1e-9,
-                    "ipopt.max_iter": 500,
-                    # a peak's epigraph has one row per grid angle and branch (48 to 288 of
-                    # them): their barrier terms hold the epigraph variable about mu times the
-                    # row count above the peak (scaled to 1). The adaptive rule raised mu to
-                    # 0.1-0.2 early on, the epigraph variables went tens of peaks high and the
-                    # solves wandered (the crank-rocker example: 14-57 iterations a start,
-                    # 16-20 with the cap). Over the reference problems, the examples and the
-                    # impact synthesis, caps of 1e-2 to 2e-3 did best; 1e-2 and above lost the
-                    # impact synthesis (benchmarks/bench_synthesis.py --iterations --options)
-                    "ipopt.mu_strategy": "adaptive",
-                    "ipopt.mu_max": 5e-3,
-                    "ipopt.mu_init": 1e-3,  # the monotone rule's start, if options choose it
-                    "error_on_fail": False,
-                    # designs outside the assemblable region give NaN; IPOPT backtracks
-                    "show_eval_warnings": False,
-                }
-                opts.update({f"ipopt.{k}": v for k, v in (options or {}).items()})
-                if "ipopt.print_level" in opts and opts["ipopt.print_level"] > 0:
-                    opts["ipopt.sb"] = "no"
-                nlp = {"x": self.x, "p": self.p, "f": self.f, "g": self.g}
-                self._solvers[key] = ca.nlpsol("mechsynth", "ipopt", nlp, opts)
-            elif method == "functions":
-                grad = ca.gradient(self.f, self.x)
-                jac = ca.jacobian(self.g, self.x)
-                self._solvers[key] = (
-                    ca.Function("f", [self.x, self.p], [self.f, grad]),
-                    ca.Function("g", [self.x, self.p], [self.g, jac]),
-                )
-            else:
-                raise MechanismError(f"unknown transcription solver {method!r}")
-        return self._solvers[key]
+        """The structure's CasADi solver ``method`` ("ipopt") or casadi Functions
+        ("functions"), built on first use."""
+        return self.structure.solver(method, options)
 
     def replace_extra(self, n_extra: int) -> Transcription:
         """A new transcription with room for ``n_extra`` refinement angles."""
