@@ -243,7 +243,7 @@ def check_plain(lk, phi):
         pairs += zip(vars(track).values(), ref[f"point {p}"])
     for k, track in m.links.items():
         pairs += zip(vars(track).values(), ref[f"link {k}"])
-    for key, tm in m.transmission_angles.items():
+    for key, tm in m.raw_transmission_angles.items():
         pairs += [(tm, ref[f"mu {key}"])]
     for key, pa in m.pressure_angles.items():
         pairs += [(pa, ref[f"pressure {key}"])]

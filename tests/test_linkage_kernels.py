@@ -113,6 +113,32 @@ def test_one_design_on_the_kernel_equals_the_models_motion(name):
     assert len(kernel.serial.signatures) == signatures
 
 
+def test_a_workspace_motion_is_views_of_its_block_and_its_dicts_its_own():
+    """The motion of a batch is made of views of the kernel's block, remembered for the
+    workspace's block: a later call into the same block gives a motion of fresh dicts over the
+    same views, a grown block new views; another main output has its own recipe."""
+    from mechsynth.kinematics.compiled import BatchWorkspace
+
+    lk, batch = _batch("six-link", 3)
+    kernel, phi, ws = lkk.linkage_kernel(lk), _phi(lk), BatchWorkspace()
+    m1, _, _ = lkk.linkage_batch(batch, phi, speed=ms.rpm(600), workspace=ws, kernel=kernel)
+    block = ws.block(3, phi.size, rows=kernel.outputs)
+    assert np.shares_memory(m1.points["B"].x, block) and m1.points["B"].x.shape == (3, phi.size)
+    m1.points.pop("B")
+    m1.extra["assembly margins"].clear()
+    m2, _, _ = lkk.linkage_batch(batch, phi, speed=ms.rpm(600), workspace=ws, kernel=kernel)
+    assert "B" in m2.points and m2.points is not m1.points
+    _same_motion(batch.motion(phi, speed=ms.rpm(600)), m2)
+    big = lk(DB=np.linspace(0.07, 0.09, 40)[:, None])
+    m3, _, _ = lkk.linkage_batch(big, phi, speed=ms.rpm(600), workspace=ws, kernel=kernel)
+    assert m3.points["B"].x.shape == (40, phi.size)
+    _same_motion(big.motion(phi, speed=ms.rpm(600)), m3)
+    other = batch.with_output("B")
+    m4, _, _ = lkk.linkage_batch(other, phi, kernel=kernel)
+    np.testing.assert_array_equal(m4.pressure_angle, m4.pressure_angles["B"])
+    _same_motion(other.motion(phi), m4)
+
+
 def test_kernel_is_one_per_structure_and_kept_on_disk():
     lk = six_link()
     k1 = lkk.linkage_kernel(lk)

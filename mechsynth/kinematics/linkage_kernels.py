@@ -51,7 +51,7 @@ from . import ops
 from .linkage_groups import _State
 from .mechanism import speed_pair
 from .ops import cos_sin
-from .tracks import Jet, PointJet
+from .tracks import Jet, LinkTrack, Motion, PointJet, PointTrack, SliderTrack
 
 __all__ = ["LinkageKernel", "linkage_kernel", "is_compiled", "cache_dir", "linkage_batch"]
 
@@ -571,18 +571,112 @@ def linkage_batch(linkage, phi, speed=None, workspace=None, kernel=None):
     omega, eps = speed_pair(speed, 0.0)
     _, flags = kernel(params, phi, out, speed=(omega, eps))
     good = flags[:, 0] == 0.0
-    failed = ~good & (flags[:, 1] < -1e-6)
-    st = _State(phi, values, True, linkage._bodies)
-    targets = {kind: getattr(st, kind) for kind in _KINDS}
-    rows = list(out)  # the block's rows as views, made at once
-    for kind, key, off, size in kernel.layout:
-        if size == 1:
-            targets[kind][key] = rows[off]
-        elif kind == "points":
-            targets[kind][key] = PointJet(*rows[off : off + 6])
-        else:
-            targets[kind][key] = Jet(*rows[off : off + 3])
-    return linkage._motion(st, phi, omega, eps, scaled=True), good, failed
+    failed = (flags[:, 1] < -1e-6) > good  # and not good
+    return _recipe(linkage, kernel).motion(out, phi, omega, eps), good, failed
+
+
+class _Recipe:
+    """Where each field of a linkage's :class:`Motion` lies in its kernel's block: row indices
+    read back from the model's own ``Linkage._motion`` once per structure (which track is the
+    main slider, whose pressure angle is the motion's), so that a batch's motion is made of
+    views of the block without walking the model's state again."""
+
+    def __init__(self, linkage, kernel):
+        rows = np.arange(1.0, kernel.outputs + 1.0).reshape(-1, 1, 1)  # row r holds r + 1
+        st = _State(np.zeros(1), linkage._values, True, linkage._bodies)
+        targets = {kind: getattr(st, kind) for kind in _KINDS}
+        for kind, key, off, size in kernel.layout:
+            block = tuple(rows[off : off + size])
+            targets[kind][key] = (
+                block[0] if size == 1 else (PointJet if kind == "points" else Jet)(*block)
+            )
+        ref = linkage._motion(st, np.zeros(1), 1.0, 0.0, scaled=True)
+
+        def row(value):  # the row a field of the reference motion is a view of (-1: none)
+            return int(np.asarray(value).reshape(-1)[0]) - 1
+
+        def tracks(named):
+            return tuple((k, tuple(row(v) for v in vars(t).values())) for k, t in named.items())
+
+        self.points, self.links = tracks(ref.points), tracks(ref.links)
+        self.sliders = tracks(ref.sliders)
+        self.pressure = row(ref.pressure_angle)
+        mu = ref.raw_transmission_angle
+        self.transmission = None if mu is None else row(mu)
+        self.pressures = tuple((k, row(v)) for k, v in ref.pressure_angles.items())
+        self.transmissions = tuple((k, row(v)) for k, v in ref.raw_transmission_angles.items())
+        self.extra = tuple(
+            (k, tuple((kk, row(vv)) for kk, vv in v.items()) if isinstance(v, dict) else row(v))
+            for k, v in ref.extra.items()
+        )
+
+        self._views = None  # (block's base, shape, fields): the last block's views
+
+    def fields(self, out) -> tuple:
+        """The motion's tracks and angles as views of the block ``out``; remembered for the
+        last block (a workspace's block is the same memory call after call; the reference kept
+        to its base keeps that memory from being reused by another array)."""
+        base = out.base
+        last = self._views
+        if last is not None and last[0] is base and last[1] == out.shape and base is not None:
+            return last[2]
+        rows = list(out)  # the block's rows as views, made at once
+        point, link = PointTrack.of, LinkTrack.of
+        got = (
+            {k: point(*[rows[r] for r in rs]) for k, rs in self.points},
+            {k: link(*[rows[r] for r in rs]) for k, rs in self.links},
+            {k: SliderTrack(*[rows[r] for r in rs]) for k, rs in self.sliders},
+            rows[self.pressure] if self.pressure >= 0 else np.zeros(out.shape[1:]),
+            None if self.transmission is None else rows[self.transmission],
+            {
+                k: {kk: rows[r] for kk, r in v} if isinstance(v, tuple) else rows[v]
+                for k, v in self.extra
+            },
+            {k: rows[r] for k, r in self.pressures},
+            {k: rows[r] for k, r in self.transmissions},
+        )
+        self._views = (base, out.shape, got)
+        return got
+
+    def motion(self, out, phi, omega, eps) -> Motion:
+        """The :class:`Motion` of the kernel's block ``out`` (its tracks views of the block;
+        its dicts its own)."""
+        points, links, sliders, pressure, mu, extra, pressures, mus = self.fields(out)
+        return Motion(
+            phi=phi,
+            omega=omega,
+            epsilon=eps,
+            points=points,  # copied into the motion's own Tracks dicts
+            links=links,
+            pressure_angle=pressure,
+            sliders=sliders,
+            raw_transmission_angle=mu,
+            extra={k: dict(v) if type(v) is dict else v for k, v in extra.items()},
+            pressure_angles=dict(pressures),
+            raw_transmission_angles=dict(mus),
+        )
+
+
+_RECIPES: dict = {}
+
+
+def _recipe(linkage, kernel) -> _Recipe:
+    """The motion recipe of ``linkage``'s structure and main output on ``kernel``: found by
+    the identity of the linkage's groups (shared by every design made from one linkage) before
+    their value (hashing frozen groups costs several microseconds a call)."""
+    groups = linkage._groups
+    key = (id(kernel), id(groups), linkage._output)
+    hit = _RECIPES.get(key)
+    if hit is not None and hit[0] is kernel and hit[1] is groups:
+        return hit[2]
+    full = (kernel.source, _structure(linkage), linkage.default_output)
+    recipe = _RECIPES.get(full)
+    if recipe is None:
+        if len(_RECIPES) > 512:  # bounded: linkages built anew in a loop add identities
+            _RECIPES.clear()
+        recipe = _RECIPES[full] = _Recipe(linkage, kernel)
+    _RECIPES[key] = (kernel, groups, recipe)  # holds both: their ids stay theirs
+    return recipe
 
 
 _KINDS = ("points", "links", "sliders", "pressure", "transmission", "margins", "extra")
