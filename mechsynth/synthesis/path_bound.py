@@ -186,7 +186,7 @@ def _kappa_range(r3lo, r3hi, r4lo, r4hi, dlo, dhi):
     return lo - 1e-12 * (1.0 + np.abs(lo)), hi + 1e-12 * (1.0 + np.abs(hi))
 
 
-def enclosures(lo, hi, sigma, turns, targets):
+def enclosures(lo, hi, sigma, turns, targets, full=False):
     """Rectangles that hold the targets in the coupler's frame for every design in a box.
 
     Parameters
@@ -199,6 +199,9 @@ def enclosures(lo, hi, sigma, turns, targets):
     -------
     qlo, qhi : ``(K, n, 2)`` corners of the rectangles.
     feasible : ``(K,)`` False where some target cannot be assembled by any design of the box.
+    parts : with ``full``, a dict of the intermediate enclosures (``kappa``: the cosine of the
+        dyad's angle at A; ``psi``: the direction A -> B; ``d``: ``|A O2|``; each a
+        ``(lower, upper)`` pair of ``(K, n)`` arrays).
     """
     c, h = 0.5 * (lo + hi), 0.5 * (hi - lo)
     r_a = np.hypot(h[:, 0], h[:, 1]) + np.hypot(h[:, 2], h[:, 3])  # |A_i - A_i(centre)|
@@ -234,6 +237,9 @@ def enclosures(lo, hi, sigma, turns, targets):
     ylo, yhi = _times(mlo, mhi, slo, shi)
     qlo = np.stack([xlo, ylo], axis=-1) - _SLACK
     qhi = np.stack([xhi, yhi], axis=-1) + _SLACK
+    if full:
+        parts = {"kappa": (klo, khi), "psi": (psi_lo, psi_hi), "d": (dlo, dhi)}
+        return qlo, qhi, feasible, parts
     return qlo, qhi, feasible
 
 
@@ -259,9 +265,15 @@ def _least_spread(lo, hi):
     return np.min(np.sum(d * d, axis=2), axis=1)
 
 
-def _box_bounds(lo, hi, sigma, turns, targets):
+def _box_bounds(lo, hi, sigma, turns, targets, linear=True):
+    """Each box's lower bound: the larger of the rectangles' (first order) and, with
+    ``linear``, the linear model's (second order, :mod:`.path_bound_linear`)."""
     qlo, qhi, ok = enclosures(lo, hi, sigma, turns, targets)
     lb = _least_spread(qlo[..., 0], qhi[..., 0]) + _least_spread(qlo[..., 1], qhi[..., 1])
+    if linear and lb.size:
+        from .path_bound_linear import linear_bound
+
+        lb = np.maximum(lb, linear_bound(lo, hi, sigma, turns, targets))
     return np.where(ok, lb, np.inf)
 
 
