@@ -11,7 +11,8 @@ _DESCRIPTION = (
     "Freudenstein's exact solution, more a least-squares fit; --optimize then minimizes the "
     "certified worst output error over the whole range. Without --phases the start angles are "
     "scanned. --out writes design.toml (for 'mechsynth animate'), error.csv, "
-    "precision_points.csv, result.json and error.png. Angles take units ('60deg', '1.2 rad'; a "
+    "precision_points.csv, result.json, error.png and problem.toml (the min-max stage as a "
+    "problem file for 'mechsynth optimize'). Angles take units ('60deg', '1.2 rad'; a "
     "bare number is rad), lengths too ('50 mm'; a bare number is m)."
 )
 

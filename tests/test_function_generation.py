@@ -191,7 +191,7 @@ def test_design_file_reads_back(tmp_path):
     files = fg.write(tmp_path)
     assert {f.name for f in files} == {
         "design.toml", "error.csv", "precision_points.csv", "solutions.csv", "result.json",
-        "error.png",
+        "error.png", "problem.toml",
     }  # fmt: skip
     back = load_design(tmp_path / "design.toml").design
     assert back == fg.design

@@ -279,10 +279,38 @@ class FunctionGeneration:
                 lines.append(f"{k} = {float(v)!r}")
         return "\n".join(lines) + "\n"
 
+    def problem_toml(self, bounds: dict | None = None, min_transmission="auto",
+                     angles: int = 33, starts: int = 8) -> str:  # fmt: skip
+        """A problem file for ``mechsynth optimize`` (``mechanism = "function-generator"``,
+        :mod:`.function_problem`): the min-max stage around this design, to edit (its boxes,
+        its constraints) and solve. ``min_transmission`` (rad): a lower bound of the
+        transmission angle over the range; ``"auto"`` takes 30 deg, or the design's own
+        minimum if lower (so that it is feasible); None none. A design from precision pairs has
+        no function: MechanismError."""
+        from ..explore.model import to_toml
+        from .function_problem import problem_data
+
+        if isinstance(min_transmission, str) and min_transmission == "auto":
+            min_transmission = None
+            if self.angular:
+                min_transmission = min(np.radians(30.0), self.min_transmission_angle * (1 - 1e-6))
+        data = problem_data(self, bounds=bounds, min_transmission=min_transmission,
+                            angles=angles)  # fmt: skip
+        data = {"starts": int(starts), **data}
+        head = (
+            f"# The min-max stage of the function generator y = {self.function} "
+            f"({self.mechanism}, {self.method}):\n#\n#   mechsynth optimize problem.toml\n#\n"
+            "# The input is the crank's rotation from the range's start (0 .. input_range); "
+            "phi0 and the\n# output's phase are variables. structural_error is the worst "
+            "|output - ideal| over the\n# range (rad, or m for a slider-crank); SI numbers.\n"
+        )
+        return head + to_toml(data)
+
     def write(self, out) -> list:
         """Write ``design.toml``, ``error.csv`` (the error curve), ``precision_points.csv``,
-        ``solutions.csv``, ``result.json`` and ``error.png`` into ``out``; returns the
-        paths."""
+        ``solutions.csv``, ``result.json``, ``error.png`` and, for a design from a function,
+        ``problem.toml`` (:meth:`problem_toml`, for ``mechsynth optimize``) into ``out``;
+        returns the paths."""
         import matplotlib
 
         matplotlib.use("Agg")
@@ -321,6 +349,8 @@ class FunctionGeneration:
         fig = self.plot()
         files.append(save_figure(fig, out / "error.png", dpi=120))
         plt.close(fig)
+        if self.function is not None and self.domain is not None:
+            files.append(write_text(out / "problem.toml", self.problem_toml()))
         return files
 
 

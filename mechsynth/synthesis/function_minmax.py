@@ -15,11 +15,12 @@ like any peak: grid angles are added where the solver's grid missed the true wor
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass, replace
-from typing import ClassVar
+from dataclasses import dataclass, field, replace
+from typing import Any, ClassVar
 
 import numpy as np
 
+from ..errors import UsageError
 from ..kinematics import ops
 from ..kinematics.four_bar import FourBar
 from ..kinematics.mechanism import Mechanism
@@ -27,7 +28,14 @@ from ..kinematics.slider_crank import SliderCrank
 from ..objectives.base import CycleMeasure
 from ..objectives.kinematic import min_transmission_angle
 
-__all__ = ["FourBarGenerator", "CrankFourBarGenerator", "SliderCrankGenerator", "minmax"]
+__all__ = [
+    "FourBarGenerator",
+    "CrankFourBarGenerator",
+    "SliderCrankGenerator",
+    "minmax",
+    "structural_error",
+    "file_structural_error",
+]
 
 
 class _Ranged:
@@ -44,9 +52,21 @@ class _Ranged:
     def periodic(self) -> bool:
         return False
 
+    @property
+    def input_unit(self) -> str:
+        """The input is a rotation (rad), though not periodic."""
+        return "rad"
+
     def turn(self, n: int = 48):
         lo, hi = self.input_range
         return np.linspace(lo, hi, int(n))
+
+    def as_dict(self) -> dict:
+        """The design's fields as plain values; a problem file's target function is not one
+        (it is the file's ``[function]`` table)."""
+        out = super().as_dict()
+        out.pop("target", None)
+        return out
 
 
 @dataclass(frozen=True)
@@ -63,6 +83,7 @@ class FourBarGenerator(_Ranged, Mechanism):
     psi0: float
     span: float
     branch: str = "open"
+    target: Any = field(default=None, compare=False, repr=False)
 
     parameters: ClassVar[tuple[str, ...]] = (
         "crank", "coupler", "rocker", "ground", "phi0", "psi0",
@@ -108,6 +129,7 @@ class SliderCrankGenerator(_Ranged, Mechanism):
     phi0: float
     s0: float
     span: float
+    target: Any = field(default=None, compare=False, repr=False)
 
     parameters: ClassVar[tuple[str, ...]] = ("crank", "rod", "offset", "phi0", "s0")
     length_parameters: ClassVar[tuple[str, ...]] = ("crank", "rod")
@@ -153,6 +175,30 @@ def structural_error(target, angular: bool) -> CycleMeasure:
         "rad" if angular else "m",
         branches=lambda mech, m: (e(mech, m), -e(mech, m)),
     )
+
+
+def file_structural_error(angular: bool) -> CycleMeasure:
+    """:func:`structural_error` against the generator's own ``target`` (``t -> ideal output
+    travel``, set by the problem files of :mod:`.function_problem`): the measure a problem file
+    names ``structural_error``."""
+
+    def target_of(mechanism):
+        target = getattr(mechanism, "target", None)
+        if target is None:
+            raise UsageError(
+                f"structural_error measures a function generator with a target function "
+                f"(mechanism = 'function-generator' in a problem file); {type(mechanism).__name__}"
+                " has none"
+            )
+        return target
+
+    def e(mechanism, motion):
+        return structural_error(target_of(mechanism), angular).samples(mechanism, motion)
+
+    def branches(mechanism, motion):
+        return structural_error(target_of(mechanism), angular).branches(mechanism, motion)
+
+    return CycleMeasure("structural_error", e, "max", "rad" if angular else "m", branches=branches)
 
 
 def minmax(
