@@ -139,6 +139,61 @@ def test_a_workspace_motion_is_views_of_its_block_and_its_dicts_its_own():
     _same_motion(other.motion(phi), m4)
 
 
+def test_a_kernel_built_behind_the_caller_never_blocks_it(monkeypatch):
+    """``wait=False``: the first call returns at once (None: the model serves) while the
+    kernel is built in a background thread, one build per structure; once built, the kernel
+    is the one a blocking call gives and its motion the model's."""
+    import threading
+    import time
+
+    lk, batch = _batch("six-link", 5)
+    phi = _phi(lk)
+    monkeypatch.setattr(lkk, "_KERNELS", {})  # as in a process that has not built it
+    release, calls, real = threading.Event(), [], lkk._built
+
+    def slow_build(linkage, key):
+        calls.append(key)
+        assert release.wait(60)
+        return real(linkage, key)
+
+    monkeypatch.setattr(lkk, "_built", slow_build)
+    t = time.perf_counter()
+    assert lkk.linkage_kernel(lk, wait=False) is None
+    assert lkk.linkage_batch(batch, phi, wait=False) is None  # the caller takes the model
+    assert time.perf_counter() - t < 1.0
+    thread = lkk.kernel_pending(lk)
+    assert thread is not None and thread.is_alive()
+    served = batch.motion(phi, speed=ms.rpm(600))  # the model meanwhile
+    assert lkk.linkage_kernel(lk(DB=0.08), wait=False) is None  # the same structure
+    release.set()
+    thread.join(120)
+    assert len(calls) == 1 and lkk.kernel_pending(lk) is None
+    kernel = lkk.linkage_kernel(lk, wait=False)
+    assert kernel is not None and lkk.linkage_kernel(lk) is kernel
+    motion, good, failed = lkk.linkage_batch(batch, phi, speed=ms.rpm(600), wait=False)
+    assert good.all() and not failed.any()
+    _same_motion(served, motion)
+
+
+def test_a_failed_background_build_leaves_the_blocking_call_to_report(monkeypatch):
+    lk, _ = _batch("six-link", 2)
+    monkeypatch.setattr(lkk, "_KERNELS", {})
+    monkeypatch.setattr(lkk, "_FAILED", set())
+
+    def broken(linkage, key):
+        raise OSError("disk full")
+
+    monkeypatch.setattr(lkk, "_built", broken)
+    assert lkk.linkage_kernel(lk, wait=False) is None
+    thread = lkk.kernel_pending(lk)
+    if thread is not None:
+        thread.join(60)
+    assert lkk.kernel_pending(lk) is None and not lkk._KERNELS
+    assert lkk.linkage_kernel(lk, wait=False) is None and lkk.kernel_pending(lk) is None
+    with pytest.raises(OSError, match="disk full"):
+        lkk.linkage_kernel(lk)
+
+
 def test_kernel_is_one_per_structure_and_kept_on_disk():
     lk = six_link()
     k1 = lkk.linkage_kernel(lk)
@@ -346,3 +401,42 @@ def test_a_later_process_loads_the_kernel_from_the_disk_cache(tmp_path):
     assert runs[1].stdout.split() == ["True", "0", "1", "False"]
     assert len(list(tmp_path.rglob("structure_*.json"))) == 1
     assert len(list(tmp_path.rglob("mechsynth_linkage_*.py"))) == 1  # one module, not two
+
+
+_BEHIND = """
+import time
+import numpy as np
+import mechsynth as ms
+from mechsynth.kinematics import linkage_kernels as lkk
+lk = ms.six_link()
+phi = ms.cycle(90)
+t = time.perf_counter()
+first = lkk.linkage_kernel(lk, wait=False)
+returned = time.perf_counter() - t
+model = lk.motion(phi)  # served by the model while the kernel compiles
+thread = lkk.kernel_pending(lk)
+thread.join()
+built = time.perf_counter() - t
+motion, good, _ = lkk.linkage_batch(lk, phi, wait=False)
+err = max(float(np.max(np.abs(motion.points[p].x - model.points[p].x))) for p in model.points)
+print(first is None, returned, built, bool(good.all()), err)
+"""
+
+
+@pytest.mark.slow
+def test_a_first_compilation_behind_the_caller_in_a_new_process(tmp_path):
+    """In a new process with an empty cache, ``wait=False`` returns at once while the six-link's
+    kernel compiles (seconds), and the kernel's motion is then the model's."""
+    import os
+    import subprocess
+    import sys
+
+    env = {**os.environ, "MECHSYNTH_CACHE_DIR": str(tmp_path)}
+    run = subprocess.run(
+        [sys.executable, "-c", _BEHIND], env=env, capture_output=True, text=True, timeout=600
+    )
+    assert run.returncode == 0, run.stderr
+    first_none, returned, built, good, err = run.stdout.split()
+    assert first_none == "True" and good == "True"
+    assert float(returned) < 0.5 < float(built)
+    assert float(err) < 1e-12

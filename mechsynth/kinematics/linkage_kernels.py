@@ -53,7 +53,14 @@ from .mechanism import speed_pair
 from .ops import cos_sin
 from .tracks import Jet, LinkTrack, Motion, PointJet, PointTrack, SliderTrack
 
-__all__ = ["LinkageKernel", "linkage_kernel", "is_compiled", "cache_dir", "linkage_batch"]
+__all__ = [
+    "LinkageKernel",
+    "linkage_kernel",
+    "kernel_pending",
+    "is_compiled",
+    "cache_dir",
+    "linkage_batch",
+]
 
 # casadi operation -> Python expression over the inputs {0}, {1} (scalar_ops as ``so``)
 _FORMS = {
@@ -490,54 +497,111 @@ def is_compiled(linkage) -> bool:
     return index is not None and index.is_file()
 
 
-def linkage_kernel(linkage) -> LinkageKernel | None:
+def linkage_kernel(linkage, wait: bool = True) -> LinkageKernel | None:
     """The compiled kernel of ``linkage``'s structure (built on first use, then remembered), or
     None when numba is missing, the linkage has a cam follower or its solve uses an operation
-    the generator does not know."""
-    from .compiled import announce_compilation, numba_available
+    the generator does not know.
+
+    ``wait=False`` never blocks on a build: it returns the kernel when this process has it and
+    otherwise starts building it (loading it from the disk cache, or tracing and compiling it)
+    in a background thread and returns None at once, so that the caller evaluates on the
+    numpy model meanwhile and finds the kernel on a later call (:func:`kernel_pending` tells
+    a build under way). A process waits at exit for a compilation it started (its kernel then
+    lands in the disk cache for the next one).
+    """
+    from .compiled import numba_available
     from .linkage_groups import FollowerGroup
 
-    if not numba_available() or any(isinstance(g, FollowerGroup) for g in linkage.groups):
+    if wait or "numba" in sys.modules:
+        available = numba_available()
+    else:  # numba's import (about 0.5 s) is the background thread's
+        available = importlib.util.find_spec("numba") is not None
+    if not available or any(isinstance(g, FollowerGroup) for g in linkage.groups):
         return None
     key = _structure(linkage)  # frozen groups of names (a follower's profile is not among them)
-    with _LOCK:
-        if key in _KERNELS:
-            return _KERNELS[key]
-        index = _index_path(key)
-        try:
-            known = _read_index(index)
-            if known is None:
-                f, names, layout = _trace(linkage)
-                source = _source(f, layout, _stamp())
-            else:
-                names, layout, source = known
-        except NotImplementedError:
-            kernel = None
+    if key in _KERNELS:
+        return _KERNELS[key]
+    if wait:
+        with _LOCK:
+            return _built(linkage, key)
+    with _PENDING_LOCK:
+        if key not in _PENDING and key not in _FAILED:
+            thread = threading.Thread(
+                target=_build_behind, args=(linkage, key), name="mechsynth kernel build"
+            )
+            _PENDING[key] = thread
+            thread.start()
+    return None
+
+
+def kernel_pending(linkage) -> threading.Thread | None:
+    """The background thread building ``linkage``'s kernel (``linkage_kernel(..., wait=False)``)
+    while it runs (``join()`` it to wait), else None."""
+    thread = _PENDING.get(_structure(linkage))
+    return thread if thread is not None and thread.is_alive() else None
+
+
+_PENDING: dict = {}
+_PENDING_LOCK = threading.Lock()
+_FAILED: set = set()  # structures whose background build failed: not started again
+
+
+def _build_behind(linkage, key) -> None:
+    """A background build: the kernel remembered for the process, or on failure nothing but
+    the structure's failure (no background build again; a blocking call builds and raises)."""
+    try:
+        with _LOCK:
+            _built(linkage, key)
+    except Exception:  # noqa: BLE001 - a blocking call builds again and raises it
+        _FAILED.add(key)
+    finally:
+        with _PENDING_LOCK:
+            _PENDING.pop(key, None)
+
+
+def _built(linkage, key) -> LinkageKernel | None:
+    """The kernel of structure ``key`` (with ``_LOCK`` held): remembered, recorded in the disk
+    cache, or traced, generated and compiled."""
+    from .compiled import announce_compilation
+
+    if key in _KERNELS:
+        return _KERNELS[key]
+    index = _index_path(key)
+    try:
+        known = _read_index(index)
+        if known is None:
+            f, names, layout = _trace(linkage)
+            source = _source(f, layout, _stamp())
         else:
-            _vectorize_wide_loops()
-            module = _load(source)
-            if known is None:
-                _write_index(index, names, layout, source)
-            n_out = sum(size for *_, size in layout)
-            with announce_compilation(
-                f"a kernel for {linkage.name}'s structure", dispatchers=[module.serial]
-            ):
-                grid = np.zeros(1)
-                module.serial(
-                    np.ones((1, len(names))), grid, grid, grid, 1.0, 0.0, np.empty((n_out, 1, 1)),
-                    np.empty((1, 2)),
-                )  # fmt: skip
-            kernel = LinkageKernel(names, layout, n_out, source, module.serial, module.parallel)
-        _KERNELS[key] = kernel
-        return kernel
+            names, layout, source = known
+    except NotImplementedError:
+        kernel = None
+    else:
+        _vectorize_wide_loops()
+        module = _load(source)
+        if known is None:
+            _write_index(index, names, layout, source)
+        n_out = sum(size for *_, size in layout)
+        with announce_compilation(
+            f"a kernel for {linkage.name}'s structure", dispatchers=[module.serial]
+        ):
+            grid = np.zeros(1)
+            module.serial(
+                np.ones((1, len(names))), grid, grid, grid, 1.0, 0.0, np.empty((n_out, 1, 1)),
+                np.empty((1, 2)),
+            )  # fmt: skip
+        kernel = LinkageKernel(names, layout, n_out, source, module.serial, module.parallel)
+    _KERNELS[key] = kernel
+    return kernel
 
 
 # -------------------------------------------------------------------------------- batches
-def linkage_batch(linkage, phi, speed=None, workspace=None, kernel=None):
+def linkage_batch(linkage, phi, speed=None, workspace=None, kernel=None, wait=True):
     """The motion of a batch of numeric designs of ``linkage`` (each parameter a number or an
     array of ``n`` designs) at the inputs ``phi`` (1-D) on its compiled kernel.
 
-    Returns ``(motion, good, failed)`` or None (no kernel, symbolic values, ``phi`` not 1-D):
+    Returns ``(motion, good, failed)`` or None (no kernel, symbolic values, ``phi`` not 1-D;
+    with ``wait=False``, also while the kernel is being built: see :func:`linkage_kernel`):
     ``motion`` has ``(n, m)`` tracks, views into ``workspace``'s block (valid until its next
     use); ``good`` marks the designs whose every output is finite -- their values are the
     model's to round-off -- and ``failed`` those where an assembly margin falls below -1e-6
@@ -551,7 +615,7 @@ def linkage_batch(linkage, phi, speed=None, workspace=None, kernel=None):
     phi = np.asarray(phi, dtype=float)
     if phi.ndim != 1:
         return None
-    kernel = kernel or linkage_kernel(linkage)
+    kernel = kernel or linkage_kernel(linkage, wait)
     if kernel is None:
         return None
     if scalars:  # one design: its row at once
