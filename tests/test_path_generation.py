@@ -360,6 +360,15 @@ def test_pressure_angle_measure_matches_the_transmission_constraint():
     assert b.error == pytest.approx(a.error, rel=1e-5)  # its bound sits 1e-7 inside
     pa = ob.max_pressure_angle().evaluate(b.design, ms.cycle(7200))
     assert pa <= ms.deg(50) * (1 + 1e-6)
+    # every returned design carries the certifier's value over the continuous crank angle
+    for s in b.solutions:
+        (cert,) = s.certificate
+        assert cert.holds and cert.op == "<=" and cert.bound == pytest.approx(ms.deg(50))
+        grid = ob.max_pressure_angle().evaluate(s.linkage, ms.cycle(7200))
+        assert grid - 1e-12 <= cert.value <= ms.deg(50) * (1 + 1e-6)
+        assert cert.value == pytest.approx(ms.deg(50), rel=1e-6)  # the constraint is active
+    assert "certified: max_pressure_angle" in b.summary()
+    assert b.as_dict()["best"]["certificate"][0]["holds"] is True
 
 
 @pytest.mark.slow

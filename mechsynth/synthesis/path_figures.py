@@ -39,8 +39,9 @@ def path_figure(result, n: int = 360, show: int | None = None):
                 if bar.closed and len(xy) > 2:
                     ax.fill(xy[:, 0], xy[:, 1], color=PALETTE[4], alpha=0.12 * alpha)
                     xy = np.vstack([xy, xy[:1]])
-                ax.plot(xy[:, 0], xy[:, 1], "-", color=PALETTE[4], lw=1.2, alpha=alpha,
-                        label="linkage at the targets" if j == 0 and k == 0 else None)  # fmt: skip
+                ax.plot(xy[:, 0], xy[:, 1], "-", marker="o", ms=3.0, color=PALETTE[4], lw=1.2,
+                        alpha=alpha, label="linkage at the targets" if j == 0 and k == 0
+                        else None)  # fmt: skip
         ax.plot(curve[:, 0], curve[:, 1], "-", color=PALETTE[1], label="coupler curve")
         ax.plot(at[:, 0], at[:, 1], "o", ms=3.5, color=PALETTE[1],
                 label="coupler point at the targets")  # fmt: skip

@@ -663,6 +663,12 @@ def _path_generation(
                 distinct[i] = _with_note(distinct[i], "cognate of #1")
             else:
                 distinct.insert(1, cog)
+    if measures:  # the library's certifier confirms each measure over the continuous angle
+        from .path_measures import certified
+
+        kept, dropped = certified(distinct, measures, speed)
+        n_distinct -= sum(1 for d in distinct if not d.note) - sum(1 for d in kept if not d.note)
+        distinct, why = kept, why or dropped
     if not distinct and status != "interrupted":
         status = "infeasible"
     return PathResult(

@@ -37,7 +37,7 @@ class LinkagePathSolution:
     linkage : the design (a :class:`~mechsynth.Linkage`); ``trace_point`` its tracing point.
     values : ``{name: value}`` of the varied dimensions (SI).
     angles : crank angle at each target (rad, the linkage's input).
-    error, sum_squares, max_distance, transmission, note : as
+    error, sum_squares, max_distance, transmission, note, certificate : as
         :class:`~mechsynth.synthesis.path_generation.PathSolution`'s; the transmission range
         is over every group's transmission angle on 3600 crank angles.
     """
@@ -52,6 +52,7 @@ class LinkagePathSolution:
     transmission: tuple[float, float]
     note: str = ""
     branch: str = ""
+    certificate: tuple = ()
 
     fourbar = None  # not a four-bar in its own frame
     coupler_point = None
@@ -79,6 +80,7 @@ class LinkagePathSolution:
             "transmission_min": float(self.transmission[0]),
             "transmission_max": float(self.transmission[1]),
             "note": self.note,
+            "certificate": [c.as_dict() for c in self.certificate],
         }
 
 
@@ -334,6 +336,10 @@ def linkage_path_generation(
     for s in found:
         if not any(_same_values(s, d) for d in distinct):
             distinct.append(s)
+    from .path_measures import certified
+
+    distinct, dropped = certified(distinct, constraints, speed)
+    why = why or dropped
     if not distinct and status != "interrupted":
         status = "infeasible"
     return distinct, ran, len(distinct), status, why

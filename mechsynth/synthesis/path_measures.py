@@ -4,16 +4,23 @@ A peak (``CycleMeasure`` reduced by ``max`` or ``min``) is bounded through its s
 each of ``GRID`` crank angles over the turn, as :class:`~mechsynth.synthesis.Problem` bounds
 them on its base grid; a ``ScalarMeasure`` through its branches. The returned designs are then
 checked on 3600 crank angles (a constraint broken there between the grid angles drops the
-design, with the reason). Means, RMS values, equalities and sums of measures are not accepted.
+design, with the reason), and the designs returned are certified by the library's certifier
+(:func:`~mechsynth.synthesis.certify.true_peak`: each peak over the continuous crank angle, a
+dense evaluation refined by a bounded 1-D search), their certificates
+(:class:`MeasureCertificate`) reported with them; a design the certifier finds beyond a bound
+is dropped. Means, RMS values, equalities and sums of measures are not accepted.
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ..errors import MechanismError
 
-__all__ = ["check_constraints", "constraint_rows", "GRID"]
+__all__ = ["check_constraints", "constraint_rows", "GRID", "MeasureCertificate",
+           "certify_constraints", "certified"]
 
 #: crank angles at which a peak's branches are bounded in the NLP (a parameter: ``GRID`` equal
 #: steps, then ``EXTRA`` slots for the angles where a dense check found a peak beyond its bound)
@@ -147,3 +154,73 @@ def check_constraints(constraints, design, speed, n: int = 3600) -> str:
         if c.violation(value) > 1e-6 * max(1.0, abs(c.bound)):
             return f"{c.name} broken over the turn: {value:.8g}"
     return ""
+
+
+@dataclass(frozen=True)
+class MeasureCertificate:
+    """A measure constraint checked on a design by the library's certifier.
+
+    Attributes
+    ----------
+    name : the constraint (measure, operator, bound); ``op`` and ``bound`` (the measure's
+        units, SI).
+    value : the measure with every peak taken over the continuous crank angle (dense
+        evaluation refined by a bounded 1-D search to 1e-11 rad).
+    angles : crank angle (rad) of each peak (empty for a closed-form measure).
+    holds : the value keeps the bound within a relative 1e-6 (the NLP bounds it 1e-7 inside).
+    """
+
+    name: str
+    op: str
+    bound: float
+    value: float
+    angles: tuple[float, ...]
+    holds: bool
+
+    def __str__(self) -> str:
+        at = ", ".join(f"{np.rad2deg(a):.4f}" for a in self.angles)
+        return (f"{self.name}: {self.value:.8g}" + (f" at crank angle {at} deg" if at else "")
+                + (" (holds)" if self.holds else " (BROKEN)"))  # fmt: skip
+
+    def as_dict(self) -> dict:
+        return {"name": self.name, "op": self.op, "bound": self.bound, "value": self.value,
+                "angles": list(self.angles), "holds": self.holds}  # fmt: skip
+
+
+def certify_constraints(constraints, design, speed, n_dense: int = 2048) -> tuple:
+    """:class:`MeasureCertificate` of each constraint on the numeric ``design`` (a Linkage),
+    by :func:`~mechsynth.synthesis.certify.true_peak` and the library's evaluation of a
+    measure from its peaks (as :func:`~mechsynth.synthesis.pareto.true_value`)."""
+    from ..kinematics.mechanism import input_grid
+    from .certify import true_peak
+    from .transcription import evaluate_form, flatten
+
+    out = []
+    for c in constraints or ():
+        form = flatten(c.measure, design)
+        peaks, angles = {}, []
+        for _, atom in form.terms:
+            if atom.kind == "peak":
+                peaks[atom], angle, _ = true_peak(atom, design, speed, n_dense)
+                angles.append(float(angle))
+        motion = design.motion(input_grid(design, n_dense), speed=speed)
+        value = float(evaluate_form(form, design, motion, peaks))
+        holds = bool(c.violation(value) <= 1e-6 * max(1.0, abs(c.bound)))
+        out.append(MeasureCertificate(c.name, c.op, float(c.bound), value, tuple(angles), holds))
+    return tuple(out)
+
+
+def certified(solutions, constraints, speed):
+    """The solutions whose every constraint the certifier confirms, each with its
+    certificates (``certificate``), and the reason the first one dropped was dropped."""
+    if not constraints:
+        return list(solutions), ""
+    kept, why = [], ""
+    for s in solutions:
+        certs = certify_constraints(constraints, s.linkage, speed)
+        bad = [str(c) for c in certs if not c.holds]
+        if bad:
+            why = why or "certifier: " + "; ".join(bad)
+            continue
+        kept.append(replace(s, certificate=certs))
+    return kept, why

@@ -39,6 +39,9 @@ class PathSolution:
     transmission : (smallest, largest) transmission angle over the turn (rad; the smallest
         counts an obtuse angle as pi minus it, the largest is the angle itself).
     note : e.g. ``"cognate of #1"``.
+    certificate : with measure constraints, each one's
+        :class:`~mechsynth.synthesis.path_measures.MeasureCertificate` (the certifier's value
+        over the continuous crank angle); empty without.
     """
 
     crank: float
@@ -57,6 +60,7 @@ class PathSolution:
     max_distance: float
     transmission: tuple[float, float]
     note: str = ""
+    certificate: tuple = ()
 
     @property
     def fourbar(self):
@@ -109,6 +113,7 @@ class PathSolution:
             transmission_min=float(self.transmission[0]),
             transmission_max=float(self.transmission[1]),
             note=self.note,
+            certificate=[c.as_dict() for c in self.certificate],
         )
         return d
 
@@ -235,6 +240,8 @@ class PathResult:
         else:
             text = ", ".join(f"{k} {v:.6g}" for k, v in b.values.items())
         lines.append("best: " + text)
+        for c in getattr(b, "certificate", ()):
+            lines.append(f"certified: {c}")
         if self.bound is not None:
             lines.append("lower bound: " + self.bound.summary())
         return "\n".join(lines)
