@@ -566,7 +566,7 @@ def _path_generation(
             nb[name] = (lo, hi)
 
     from .path_atlas import seed
-    from .path_measures import GRID, base_angles, check_constraints, worst_angles
+    from .path_measures import check_constraints, solve_with_peaks
 
     seeds = seed(tn, count=starts, min_mu=max(0.0, min_mu - np.deg2rad(10.0)))
     nphi = n if timing == "free" else 1
@@ -607,23 +607,12 @@ def _path_generation(
                     plain(x0=x0, p=P, lbx=lbx, ubx=ubx, lbg=np.zeros(npl),
                           ubg=np.full(npl, np.inf))["x"], dtype=float,
                 ).ravel()  # fmt: skip
-            ng = len(rows)
-            Pm = np.concatenate([P, base_angles()]) if measures else P
-            for _ in range(8 if measures else 1):  # peaks: add the angles a dense check finds
-                sol = solver(x0=x0, p=Pm, lbx=lbx, ubx=ubx, lbg=np.zeros(ng),
-                             ubg=np.full(ng, np.inf))  # fmt: skip
-                z = np.asarray(sol["x"], dtype=float).ravel()
-                if objective == "squares":
-                    z = _polish(fun, z, Pm, lbx, ubx)
-                s = _solution(z, sigma, n, timing, given, centre, scale, t, objective)
-                if s is None or not measures:
-                    break
-                worst = worst_angles(measures, s.linkage, speed)
-                if worst.size == 0:
-                    break
-                slots = Pm[len(P) + GRID :]
-                Pm[len(P) + GRID :] = np.concatenate([worst, slots])[: len(slots)]
-                x0 = z
+            s, _ = solve_with_peaks(
+                solver, fun, x0, P, len(rows), lbx, ubx, objective,
+                lambda z, sigma=sigma: _solution(z, sigma, n, timing, given, centre, scale, t,
+                                                 objective),
+                measures, speed,
+            )  # fmt: skip
             ran += 1
             if s is None:
                 continue

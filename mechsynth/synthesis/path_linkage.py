@@ -278,9 +278,7 @@ def linkage_path_generation(
         ubx.append(np.inf)
     found, ran, status, why = [], 0, "optimal", ""
     it = bar(pick, total=len(pick), desc="path generation", enabled=progress, unit="start")
-    from .path_generation import _polish
-    from .path_measures import GRID as MGRID
-    from .path_measures import base_angles, worst_angles
+    from .path_measures import solve_with_peaks
 
     try:
         for j in it:
@@ -292,22 +290,11 @@ def linkage_path_generation(
             if objective == "max":
                 x0 = np.append(x0, float(((curves[row][None] - t[:, None]) ** 2).sum(-1).max()))
             x0 = np.clip(x0, lbx, ubx)
-            Pm = np.concatenate([P, base_angles()]) if constraints else P
-            for _ in range(8 if constraints else 1):  # peaks: add the angles a check finds
-                sol = solver(x0=x0, p=Pm, lbx=lbx, ubx=ubx, lbg=np.zeros(ng),
-                             ubg=np.full(ng, np.inf))  # fmt: skip
-                z = np.asarray(sol["x"], dtype=float).ravel()
-                if objective == "squares":
-                    z = _polish(fun, z, Pm, lbx, ubx)
-                s = _solution(linkage, names, trace, z, n, timing, given, t, objective)
-                if isinstance(s, str) or not constraints:
-                    break
-                worst = worst_angles(constraints, s.linkage, speed)
-                if worst.size == 0:
-                    break
-                slots = Pm[len(P) + MGRID :]
-                Pm[len(P) + MGRID :] = np.concatenate([worst, slots])[: len(slots)]
-                x0 = z
+            s, _ = solve_with_peaks(
+                solver, fun, x0, P, ng, lbx, ubx, objective,
+                lambda z: _solution(linkage, names, trace, z, n, timing, given, t, objective),
+                constraints, speed,
+            )  # fmt: skip
             ran += 1
             if isinstance(s, str):
                 why = s

@@ -20,7 +20,7 @@ import numpy as np
 from ..errors import MechanismError
 
 __all__ = ["check_constraints", "constraint_rows", "GRID", "MeasureCertificate",
-           "certify_constraints", "certified"]
+           "certify_constraints", "certified", "solve_with_peaks"]
 
 #: crank angles at which a peak's branches are bounded in the NLP (a parameter: ``GRID`` equal
 #: steps, then ``EXTRA`` slots for the angles where a dense check found a peak beyond its bound)
@@ -120,6 +120,33 @@ def _peaks(constraint, design, speed, n):
     off = np.clip(off, -0.5, 0.5)
     peak = e[idx] - 0.25 * (y0[idx] - y2[idx]) * off
     return phi[idx] + off * (2.0 * np.pi / n), peak
+
+
+def solve_with_peaks(solver, fun, x0, P, ng, lbx, ubx, objective, build, constraints, speed):
+    """One start of path generation: IPOPT from ``x0`` with parameters ``P``, the polish of a
+    sum of squares, the solution ``build(z)``; with ``constraints``, up to eight rounds that put
+    the angles where a dense check finds a peak beyond its bound into the NLP's angle slots
+    (after ``P``: ``GRID`` equal steps, then the ``EXTRA`` slots) and solve again from the last
+    point. Returns ``(solution, z)``; the solution is what ``build`` returns (a failure is
+    anything without a ``linkage``)."""
+    from .path_generation import _polish
+
+    Pm = np.concatenate([P, base_angles()]) if constraints else np.asarray(P, dtype=float)
+    s, z = None, np.asarray(x0, dtype=float)
+    for _ in range(8 if constraints else 1):
+        sol = solver(x0=z, p=Pm, lbx=lbx, ubx=ubx, lbg=np.zeros(ng), ubg=np.full(ng, np.inf))
+        z = np.asarray(sol["x"], dtype=float).ravel()
+        if objective == "squares":
+            z = _polish(fun, z, Pm, lbx, ubx)
+        s = build(z)
+        if not hasattr(s, "linkage") or not constraints:
+            break
+        worst = worst_angles(constraints, s.linkage, speed)
+        if worst.size == 0:
+            break
+        slots = Pm[len(P) + GRID :]
+        Pm[len(P) + GRID :] = np.concatenate([worst, slots])[: len(slots)]
+    return s, z
 
 
 def worst_angles(constraints, design, speed, n: int = 3600, k: int = 4) -> np.ndarray:
