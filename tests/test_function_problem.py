@@ -165,3 +165,14 @@ def test_the_good_file_loads_and_other_mechanisms_have_no_target(tmp_path):
                  "ground = 4\n", "other.toml")  # fmt: skip
     with pytest.raises(ms.MechanismError, match=r"needs a \[function\] table"):
         _problem(tmp_path, GOOD.split("[function]")[0], "nofunction.toml")
+
+
+def test_optimize_names_a_bad_function_table_in_one_line(tmp_path, capsys):
+    from mechsynth.cli import main
+
+    path = tmp_path / "bad.toml"
+    path.write_text(GOOD.replace('y = "x**2"', 'y = "log10(x)"'))  # log10(0): not finite
+    assert main(["optimize", str(path), "--json"]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("mechsynth: error: ")
+    assert "bad.toml" in err[0] and "finite" in err[0]

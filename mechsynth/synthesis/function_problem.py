@@ -67,7 +67,8 @@ def function_target(y, x, input_range: float, output_range: float):
 
     f, _ = _function(y)
     x0, x1 = (float(v) for v in x)
-    y0, y1 = (float(np.asarray(f(np.array([v])), float)[0]) for v in (x0, x1))
+    with np.errstate(all="ignore"):  # a function not finite at an end is named below
+        y0, y1 = (float(np.asarray(f(np.array([v])), float)[0]) for v in (x0, x1))
     if not (np.isfinite(y0) and np.isfinite(y1)) or y0 == y1:
         raise MechanismError(
             f"function: f(x0) = {y0:.6g} and f(x1) = {y1:.6g} must be finite and differ"
