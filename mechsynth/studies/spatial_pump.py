@@ -50,12 +50,14 @@ from ..machines.pumping_unit import BeamPumpingUnit, DynamometerCard, optimal_co
 from ..machines.pumping_unit.paper002 import ERRATA, angle_between_pitmans, paper_bending_moment
 from ..machines.pumping_unit.rod_string import RodString, wave_equation_card
 from ..machines.pumping_unit.spatial_design import (
+    limit_contour,
     size_counterbalance,
     split_curves,
     split_map,
     tolerance,
     tolerance_design_chart,
 )
+from ..machines.pumping_unit.spatial_drawing import animate_drive
 from ..machines.pumping_unit.spatial_forces import SpatialMasses, planar_torque, power_balance
 from ..machines.pumping_unit.spatial_unit import DEVIATIONS, SpatialPumpingUnit
 from ..options import Option, takes_options
@@ -469,6 +471,11 @@ def run(
     chart = split_map(
         ideal, "phase_mismatch", v1, "crank_difference", v2, sweep_theta, speed, load, masses
     )
+    # its limit line solved on rays (the grid's linear interpolation drew it kinked)
+    contour = limit_contour(
+        ideal, "phase_mismatch", v1[-1], "crank_difference", v2[-1], sweep_theta, speed, load,
+        masses, limit=float(limit), rays=max(13, 3 * cp),
+    )  # fmt: skip
 
     # design chart: tolerance against the equalizer width and the pitmans' bending stiffness
     widths = np.linspace(0.8, 1.6, int(design_points))
@@ -570,6 +577,7 @@ def run(
         results = dict(
             theta=theta, planar=planar, forces=forces, t_planar=t_planar, cb=cb, curves=curves,
             tol_rev=tol_rev, tol_rat=tol_rat, v1=v1, v2=v2, chart=chart, widths=widths,
+            contour=contour, drive=built,
             factors=factors, design=design, load=load, data=data, limit=limit, dbeta=dbeta,
             paper_force=paper_force, clearance=clearance,
         )  # fmt: skip
@@ -858,15 +866,16 @@ def _write_all(out, results):
 
     # pitman forces and split
     fig, (a1, a2) = plt.subplots(2, 1, sharex=True, figsize=(7.5, 6.5), constrained_layout=True)
+    # left wide, right thin over it (where they agree both show); drive by the dash
     for f, ls, name in ((rev, "-", "revolute"), (rat, "--", "rational")):
-        a1.plot(x, f.pitman_force["left"] / 1e3, "C0" + ls, label=f"left, {name}")
-        a1.plot(x, f.pitman_force["right"] / 1e3, "C3" + ls, label=f"right, {name}")
+        a1.plot(x, f.pitman_force["left"] / 1e3, "C0" + ls, lw=2.6, label=f"left, {name}")
+        a1.plot(x, f.pitman_force["right"] / 1e3, "C3" + ls, lw=1.0, label=f"right, {name}")
         fl, fr = f.pitman_force["left"], f.pitman_force["right"]
         # relative to the cycle's peak mean force: the measure of the tolerances (peak_split)
         ref = np.max(0.5 * (np.abs(fl) + np.abs(fr)))
         a2.plot(x, 100 * (fl - fr) / ref, "k" + ls, label=f"{name} (peak {f.peak_split:.2%})")
-    a2.axhline(100 * limit, color="C1", lw=1)
-    a2.axhline(-100 * limit, color="C1", lw=1, label=f"±{limit:.0%} (the tolerance limit)")
+    a2.axhline(100 * limit, color="C1", lw=1, ls="-.")
+    a2.axhline(-100 * limit, color="C1", lw=1, ls="-.", label=f"±{limit:.0%} (the tolerance limit)")
     lo, hi = a2.get_ylim()  # the limit lines inside the frame, not on it
     a2.set_ylim(min(lo, -130 * limit), max(hi, 130 * limit))
     a1.set_ylabel("pitman axial force, kN")
@@ -884,8 +893,9 @@ def _write_all(out, results):
     for k, comp in enumerate(("x", "y")):
         ax = axes[k]
         for f, ls, name in ((rev, "-", "revolute"), (rat, "--", "rational")):
-            ax.plot(x, f.reactions["R12"].force[:, k] / 1e3, "C0" + ls, label=f"R12{comp} {name}")
-            ax.plot(x, f.reactions["R13"].force[:, k] / 1e3, "C3" + ls, label=f"R13{comp} {name}")
+            r12, r13 = (f.reactions[j].force[:, k] / 1e3 for j in ("R12", "R13"))
+            ax.plot(x, r12, "C0" + ls, lw=2.6, label=f"R12{comp} {name}")  # wide under thin
+            ax.plot(x, r13, "C3" + ls, lw=1.0, label=f"R13{comp} {name}")
         ax.set_ylabel(f"{comp} component, kN")
         ax.grid(True, alpha=0.4)
         ax.legend(fontsize=8, ncol=2)
@@ -907,8 +917,8 @@ def _write_all(out, results):
     a1.plot(x, rev.crank_torque / 1e3, "C0-", label="revolute as built")
     a1.plot(x, rat.crank_torque / 1e3, "C3--", label="rational as built")
     rating = f"rating {RATED_TORQUE / 1e3:.1f} kN m (5600 kgf m)"
-    a1.axhline(RATED_TORQUE / 1e3, color="C1", lw=1, label=rating)
-    a1.axhline(-RATED_TORQUE / 1e3, color="C1", lw=1)
+    a1.axhline(RATED_TORQUE / 1e3, color="C1", lw=1, ls="-.", label=rating)
+    a1.axhline(-RATED_TORQUE / 1e3, color="C1", lw=1, ls="-.")
     a1.set_ylabel("crank torque, kN m")
     a1.set_title(f"Crank torque with the counterbalance M = {cb.moment / 1e3:.1f} kN m")
     a2.plot(x, rev.crank_torque - rat.crank_torque, "k-")
@@ -921,7 +931,7 @@ def _write_all(out, results):
     save(fig, "spatial_pump_torque.png")
 
     # elastic moments (paper Figs. 5-7)
-    fig, (a1, a2) = plt.subplots(2, 1, sharex=True, figsize=(7.5, 6.5), constrained_layout=True)
+    fig, (a1, a2) = plt.subplots(2, 1, sharex=True, figsize=(10, 6.5), constrained_layout=True)
     # the left pitman's curves wide and pale under the right's: where the two coincide
     # (the bending moments), both stay visible
     for side, c, lw, alpha in (("left", "C0", 4.0, 0.5), ("right", "C3", 1.4, 1.0)):
@@ -938,7 +948,7 @@ def _write_all(out, results):
     for a in (a1, a2):
         a.grid(True, alpha=0.4)
         mark(a)
-        a.legend(fontsize=8)
+        a.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # off the curves
     save(fig, "spatial_pump_elastic.png")
 
     # split against each deviation
@@ -963,17 +973,35 @@ def _write_all(out, results):
     save(fig, "spatial_pump_split_vs_deviation.png")
 
     # tolerance chart
+    from scipy.interpolate import RectBivariateSpline
+
     fig, ax = plt.subplots(figsize=(6.5, 5), constrained_layout=True)
-    X, Yg = np.meshgrid(np.rad2deg(v1), v2 * 1e3)
-    cs = ax.contourf(X, Yg, 100 * chart, levels=12, cmap="viridis")
+    # the bands: the grid's values through a cubic spline (its linear contours were kinked)
+    k = min(3, v1.size - 1, v2.size - 1)
+    fine1, fine2 = np.linspace(v1[0], v1[-1], 121), np.linspace(v2[0], v2[-1], 121)
+    smooth = RectBivariateSpline(v2, v1, chart, kx=k, ky=k)(fine2, fine1)
+    cs = ax.contourf(np.rad2deg(fine1), fine2 * 1e3, 100 * smooth, levels=12, cmap="viridis")
     fig.colorbar(cs, ax=ax, label="peak pitman split, %")
-    c5 = ax.contour(X, Yg, 100 * chart, levels=[100 * limit], colors="w", linewidths=2)
-    ax.clabel(c5, fmt=lambda v: f"{v:.0f} %")
+    c1, c2, _ = r["contour"]
+    ax.plot(np.rad2deg(c1), c2 * 1e3, color="w", lw=2.2, label=f"split = {limit:.0%}")
+    ok = np.flatnonzero(np.isfinite(c1))
+    if ok.size:
+        mid = ok[ok.size // 2]
+        ax.annotate(
+            f"{limit:.0%}",
+            (np.rad2deg(c1[mid]), c2[mid] * 1e3),
+            xytext=(6, 6),
+            textcoords="offset points",
+            color="w",
+            fontsize=9,
+            fontweight="bold",
+        )
     ax.set_xlabel("crank phase mismatch, deg")
     ax.set_ylabel("crank radius difference (right - left), mm")
     ax.set_title(
         "Tolerance chart, revolute drive: inside the white line the split stays within "
-        f"{limit:.0%}",
+        f"{limit:.0%}\n(line: solved on {c1.size} rays; bands: a {v1.size} x {v2.size} grid, "
+        "cubic spline)",
         fontsize=9,
     )
     save(fig, "spatial_pump_tolerance_chart.png")
@@ -1109,9 +1137,10 @@ def _write_all(out, results):
                 for k, wd in enumerate(widths):
                     w.writerow([n, unit, fct, wd, d["tolerance"][i, k] * factor, d["check"][i, k]])
     files.append(out / "spatial_pump_design_chart.csv")
-    # the drive seen along the shaft is the planar unit: its animation at the study's speed
+    # the drive as built in 3-D over one turn at the study's speed
     speed = spm_to_rad(float(data["options"]["spm"]))
-    files.append(planar.animate(frames=36, speed=speed, dpi=60).save(out / "spatial_pump.gif"))
+    anim = animate_drive(r["drive"], speed=speed, frames=36, dpi=64)
+    files.append(anim.save(out / "spatial_pump.gif"))
     write_text(out / "spatial_pump.json", dumps(data) + "\n")
     files.append(out / "spatial_pump.json")
     return files
@@ -1146,7 +1175,7 @@ COVERAGE = Coverage(
             "machines.pumping_unit.SpatialPumpingUnit",
             (_t("kinematics::test_ideal_drive_moves_the_polished_rod_as_the_planar_unit"),),
             "the figure is missing from the text; built from its description (spatial_pump.gif "
-            "shows the planar view)",
+            "shows the drive as built in 3-D)",
         ),
         Item(
             "eqs. (1)-(6)",

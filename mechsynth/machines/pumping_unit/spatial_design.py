@@ -12,6 +12,8 @@ model, in chunks that bound the memory of the batched linear algebra.
   model;
 * :func:`split_map` -- the peak split over a grid of two deviations acting together (the
   tolerance chart; its ``limit`` contour is the tolerance region);
+* :func:`limit_contour` -- that contour itself, solved on rays from the ideal drive (each point
+  where the split equals the limit to ``rtol``), for a smooth and exact boundary;
 * :func:`tolerance_design_chart` -- the tolerance of one deviation as a function of the
   equalizer width and the pitmans' bending stiffness (a design chart: how to build a drive that
   forgives assembly errors);
@@ -37,6 +39,7 @@ __all__ = [
     "split_curves",
     "tolerance",
     "split_map",
+    "limit_contour",
     "tolerance_design_chart",
     "size_counterbalance",
     "CounterbalanceSizing",
@@ -206,6 +209,83 @@ def split_map(
     v2 = np.asarray(values2, dtype=float).ravel()
     designs = [{first: a, second: b} for b in v2 for a in v1]
     return _peak_splits(designs, unit, theta, speed, load, masses).reshape(v2.size, v1.size)
+
+
+def limit_contour(
+    unit: SpatialPumpingUnit,
+    first: str,
+    reach1: float,
+    second: str,
+    reach2: float,
+    theta,
+    speed,
+    load,
+    masses=None,
+    limit=0.05,
+    rays=25,
+    rtol=1e-3,
+    max_rounds=12,
+):
+    """The ``limit`` contour of the peak split in the box ``[0, reach1] x [0, reach2]`` of two
+    deviations acting together (the boundary of the tolerance region of :func:`split_map`).
+
+    Along ``rays`` rays from the unit's own deviations (the corner ``(0, 0)``; its split must
+    be within ``limit``) to the far sides of the box, the point where the split equals
+    ``limit`` is solved by regula falsi (Illinois), all rays as one batch per round, to
+    ``rtol`` of the limit: the contour's points are on the exact model, not interpolated from
+    a grid. A ray whose far end is within the limit leaves the region through the box: its
+    point is NaN. The region must be star-shaped from the corner (the split growing along every
+    ray), as the split of small deviations is.
+
+    Returns
+    -------
+    (values1, values2, splits) : arrays of length ``rays`` (the deviations in their units, m or
+        rad; the split found at each point).
+    """
+    _check_deviation(first)
+    _check_deviation(second)
+    reach = []
+    for name, r in (("reach1", reach1), ("reach2", reach2)):
+        r = float(r)
+        if not (np.isfinite(r) and r > 0.0):
+            raise MechanismError(f"{name} must be a positive finite number, got {r!r}")
+        reach.append(r)
+    if int(rays) < 2:
+        raise MechanismError(f"rays must be at least 2, got {rays!r}")
+    psi = np.linspace(0.0, np.pi / 2.0, int(rays))
+    c, s = np.cos(psi), np.sin(psi)
+    far = 1.0 / np.maximum(c, s)  # where each ray leaves the box (scaled coordinates)
+
+    def split(t):
+        designs = [{first: reach[0] * a, second: reach[1] * b} for a, b in zip(t * c, t * s)]
+        return _peak_splits(designs, unit, theta, speed, load, masses) - limit
+
+    f0 = float(split(np.zeros(1))[0] + limit)
+    if not f0 < limit:
+        raise MechanismError(
+            f"the unit's own split ({f0:.4g}) is not within the limit ({limit:g}): no region"
+        )
+    lo, hi = np.zeros(psi.size), far.copy()
+    f_lo, f_hi = np.full(psi.size, f0 - limit), split(far)
+    out = f_hi <= 0.0
+    t, ft = np.where(out, np.nan, hi), f_hi.copy()
+    side = np.zeros(psi.size, dtype=int)  # which end stayed twice (Illinois halves its value)
+    for _ in range(int(max_rounds)):
+        todo = ~out & (np.abs(ft) > rtol * limit)
+        if not todo.any():
+            break
+        idx = np.flatnonzero(todo)
+        guess = hi[idx] - f_hi[idx] * (hi[idx] - lo[idx]) / (f_hi[idx] - f_lo[idx])
+        guess = np.clip(guess, lo[idx] + 1e-9 * far[idx], hi[idx] - 1e-9 * far[idx])
+        fg = split(guess)
+        t[idx], ft[idx] = guess, fg
+        up = fg > 0.0
+        f_lo[idx] *= np.where(up & (side[idx] == 1), 0.5, 1.0)
+        f_hi[idx] *= np.where(~up & (side[idx] == -1), 0.5, 1.0)
+        hi[idx], f_hi[idx] = np.where(up, guess, hi[idx]), np.where(up, fg, f_hi[idx])
+        lo[idx], f_lo[idx] = np.where(up, lo[idx], guess), np.where(up, f_lo[idx], fg)
+        side[idx] = np.where(up, 1, -1)
+    return reach[0] * t * c, reach[1] * t * s, ft + limit
 
 
 def tolerance_design_chart(
