@@ -165,7 +165,7 @@ def family_from_data(data: dict) -> GeneratorFamily:
         what = f"unknown keys {sorted(unknown)}" if unknown else f"missing {sorted(missing)}"
         raise MechanismError(f"[function]: {what}; its keys: {', '.join(FUNCTION_KEYS)}")
     kind = fn.get("mechanism", "four-bar")
-    if kind not in _CLASSES:
+    if not isinstance(kind, str) or kind not in _CLASSES:
         raise MechanismError(
             f"[function] mechanism must be one of {', '.join(_CLASSES)}, got {kind!r}"
         )
@@ -186,7 +186,7 @@ def family_from_data(data: dict) -> GeneratorFamily:
                 "need a non-zero range of less than a turn"
             )
     branch = fn.get("branch", "open")
-    if branch not in ("open", "crossed"):
+    if not isinstance(branch, str) or branch not in ("open", "crossed"):
         raise MechanismError(f"[function] branch must be 'open' or 'crossed', got {branch!r}")
     values = {}
     variables, fixed = data.get("variables", {}), data.get("fixed", {})
