@@ -64,6 +64,7 @@ _SUBPACKAGES = (
 _REGISTRARS = (
     "dynamics.linkage_forces",
     "synthesis.linkage_file",
+    "synthesis.function_problem",
     "machines.pumping_unit",
     "machines.nail_header",
     "machines.dwell",

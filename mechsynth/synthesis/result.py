@@ -463,4 +463,4 @@ class Result:
 
 def _linear_input(design) -> bool:
     """True for a design driven by a slider (its input is a displacement, not an angle)."""
-    return design is not None and getattr(design, "periodic", True) is False
+    return design is not None and getattr(design, "input_unit", "rad") == "m"
