@@ -233,6 +233,14 @@ def _orders(layout) -> dict:
     return out
 
 
+#: LLVM's fast-math flags of a kernel's row: fused multiply-adds (``contract``), a divisor's
+#: reciprocal shared by its quotients (``arcp``), sums reordered (``reassoc``), the sign of a
+#: zero ignored (``nsz``): 1.3-1.5 x faster on a Watt II, every output within 5e-15 of the
+#: model's (relative to its size). Not ``nnan``/``ninf``: NaN and inf mark the designs the
+#: model must judge, and the finite test ``x - x`` must stay.
+_FASTMATH = ("arcp", "contract", "nsz", "reassoc")
+
+
 def _source(f, layout, stamp) -> str:
     """The numba source of the traced function ``f`` (one design, a loop over inputs). The
     analogs are written as time derivatives at the input's speed ``w`` and acceleration ``e``
@@ -337,7 +345,9 @@ def _source(f, layout, stamp) -> str:
         f"STAMP = {stamp!r}",
         "",
         "",
-        '@numba.njit(error_model="numpy", cache=True, nogil=True)',
+        '@numba.njit(error_model="numpy", cache=True, nogil=True, fastmath={'
+        + ", ".join(map(repr, _FASTMATH))
+        + "})",  # a set written in one order: the same text, the same cached module
         "def row(p, phi, cphi, sphi, w, e, out, flags, i):",
         *("    " + s for s in hoisted),
         "    w2 = w * w",
