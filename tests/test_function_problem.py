@@ -75,6 +75,14 @@ def test_solving_the_file_is_the_min_max_stage(exact, tmp_path, limit):
     err = np.asarray(d.output(d.motion(t)), float) - ideal
     assert abs(np.max(np.abs(err)) - res.value) < 1e-6
     assert "target" not in res.values and json.dumps(res.to_dict(), default=float)
+    # its figure spans the input range, not a turn, says it is a rotation and fits its title
+    from mechsynth.plotting import layout_problems
+
+    fig = res.plot()
+    ax = fig.axes[-1]
+    assert ax.get_xlim() == pytest.approx((0.0, 60.0)) and "input rotation" in ax.get_xlabel()
+    assert "driving slider" not in res.report()
+    assert layout_problems(fig) == []
 
 
 def test_slider_crank_file_in_metres(tmp_path):

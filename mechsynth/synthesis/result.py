@@ -430,6 +430,9 @@ class Result:
                 )
                 for ax in axes:
                     ax.axvline(at, color="0.5", lw=0.8, ls="--")
+            elif getattr(self.design, "periodic", True) is False:  # a rotation over part of a turn
+                axes[-1].set_xlim(float(deg[0]), float(deg[-1]))
+                axes[-1].set_xlabel("input rotation, deg")
             if linear:
                 axes[-1].set_xlabel(display.label("input displacement s", "m"))
             else:
@@ -460,6 +463,14 @@ class Result:
             )
         return fig
 
+            elif len(described) > 90:  # one long line would run off the figure
+                lines = [""]
+                for part in described.split(", "):
+                    if lines[-1] and len(lines[-1]) + len(part) > 88:
+                        lines.append(part)
+                    else:
+                        lines[-1] = f"{lines[-1]}, {part}" if lines[-1] else part
+                described = ",\n".join(lines)
 
 def _linear_input(design) -> bool:
     """True for a design driven by a slider (its input is a displacement, not an angle)."""
