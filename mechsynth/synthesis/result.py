@@ -422,21 +422,34 @@ class Result:
             pa, shown = display.convert(np.asarray(m.pressure_angle, dtype=float), "rad")
             axes[3].plot(deg, pa, lw=1.5, color="#D55E00")
             axes[3].set_ylabel(f"pressure angle, {shown}")
-            for p in self.certification.peaks:
-                at = (
-                    display.convert(p.angle, "m")[0]
-                    if linear
-                    else display.angle_position(p.angle, "deg")
-                )
-                for ax in axes:
-                    ax.axvline(at, color="0.5", lw=0.8, ls="--")
+            peaks = [
+                display.convert(p.angle, "m")[0]
+                if linear
+                else display.angle_position(p.angle, "deg")
+                for p in self.certification.peaks
+            ]
+            if linear:
+                axes[-1].set_xlabel(display.label("input displacement s", "m"))
             elif getattr(self.design, "periodic", True) is False:  # a rotation over part of a turn
                 axes[-1].set_xlim(float(deg[0]), float(deg[-1]))
                 axes[-1].set_xlabel("input rotation, deg")
-            if linear:
-                axes[-1].set_xlabel(display.label("input displacement s", "m"))
             else:
                 crank_axis(axes[-1])
+            lo, hi = axes[-1].get_xlim()
+            for at in peaks:
+                for ax in axes:
+                    if min(abs(at - lo), abs(at - hi)) > 0.005 * abs(hi - lo):
+                        ax.axvline(at, color="0.5", lw=0.8, ls="--")
+                    else:  # a line on the frame would be hidden: a mark on the top edge
+                        ax.plot(
+                            [at],
+                            [1.0],
+                            "v",
+                            color="0.35",
+                            ms=6,
+                            clip_on=False,
+                            transform=ax.get_xaxis_transform(),
+                        )
             value = (
                 display.fmt(self.value, self.objective_unit, 6)
                 if np.isfinite(self.value)
@@ -450,19 +463,6 @@ class Result:
                     for k, v in self.variables.items()
                 )
                 described = f"{_name(self.design)}: {varied}"
-            fig.align_ylabels(axes)
-            if linear:
-                speed = "" if self.speed is None else display.fmt(self.speed, "m/s", 4)
-                top = make_title(described, f"input speed {speed}" if speed else "", None, False)
-            else:
-                top = make_title(described, "", self.speed)
-            marks = "inputs" if linear else "angles"
-            axes[0].set_title(
-                top + f"\n{head} (dashed: certified peak {marks})",
-                fontsize=9,
-            )
-        return fig
-
             elif len(described) > 90:  # one long line would run off the figure
                 lines = [""]
                 for part in described.split(", "):
@@ -471,6 +471,19 @@ class Result:
                     else:
                         lines[-1] = f"{lines[-1]}, {part}" if lines[-1] else part
                 described = ",\n".join(lines)
+            fig.align_ylabels(axes)
+            if linear:
+                speed = "" if self.speed is None else display.fmt(self.speed, "m/s", 4)
+                top = make_title(described, f"input speed {speed}" if speed else "", None, False)
+            else:
+                top = make_title(described, "", self.speed)
+            marks = "inputs" if linear else "angles"
+            axes[0].set_title(
+                top + f"\n{head} (dashed, or \u25bc at an end: certified peak {marks})",
+                fontsize=9,
+            )
+        return fig
+
 
 def _linear_input(design) -> bool:
     """True for a design driven by a slider (its input is a displacement, not an angle)."""
