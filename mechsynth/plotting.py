@@ -8,8 +8,11 @@
   when the display force unit is the newton, else the display unit.
 * :func:`crank_axis` — a crank-angle axis over one turn with ticks every 45 or 60 deg.
 * :func:`title` — "what, design, speed" titles.
-* :func:`layout_problems` — overlapping text, text outside the figure and markers clipped by
-  their axes: what the figure-regression test asserts away.
+* :func:`equal_axes` — equal x and y scales on axes where directions matter (mechanism
+  drawings, hodographs, force polygons), marked so that :func:`layout_problems` checks them.
+* :func:`layout_problems` — overlapping text, text outside the figure, markers clipped by their
+  axes, curves hidden under others, reference lines on the frame, series told apart by colour
+  only, unequal scales on directional axes: what the figure-regression test asserts away.
 * :func:`save` — write a figure (PNG) and close it.
 """
 
@@ -33,6 +36,7 @@ __all__ = [
     "title",
     "speed_text",
     "layout_problems",
+    "equal_axes",
     "save",
     "label_contours",
     "prune_labels",
@@ -216,6 +220,19 @@ def prune_labels(fig, pad: float = 1.0) -> int:
     return removed
 
 
+#: the attribute :func:`equal_axes` sets on axes whose directions matter
+DIRECTIONAL = "mechsynth_directional"
+
+
+def equal_axes(ax, adjustable: str = "box"):
+    """Give ``ax`` equal x and y scales (one metre, newton or m/s is as long across as up) and
+    mark it directional, so that :func:`layout_problems` reports the axes if a later call
+    distorts them; for mechanism drawings, hodographs and force polygons. Returns ``ax``."""
+    ax.set_aspect("equal", adjustable=adjustable)
+    setattr(ax, DIRECTIONAL, True)
+    return ax
+
+
 # ------------------------------------------------------------------------------ checks
 def _texts(fig):
     """Visible, non-empty text artists of the figure with their window extents."""
@@ -256,6 +273,212 @@ def _line_points(line) -> np.ndarray:
     return pts[np.all(np.isfinite(pts), axis=1)]
 
 
+def _draw_order(ax):
+    """The visible lines of ``ax`` in the order they are drawn (by z-order, then as added)."""
+    from matplotlib.lines import Line2D
+
+    lines = [a for a in ax.get_children() if isinstance(a, Line2D) and a.get_visible()]
+    return sorted(lines, key=lambda ln: ln.get_zorder())  # sorted() is stable
+
+
+def _has_stroke(line) -> bool:
+    return line.get_linestyle() not in ("None", " ", "") and line.get_linewidth() > 0
+
+
+def _has_marker(line) -> bool:
+    return line.get_marker() not in (None, "", "None", " ")
+
+
+def _densify(pts: np.ndarray, step: float = 2.0, most: int = 4000) -> np.ndarray:
+    """The polyline ``pts`` (pixels) with points at most ``step`` pixels apart (at most
+    ``most`` points), so that a covered vertex list means a covered stroke."""
+    if len(pts) < 2:
+        return pts
+    seg = np.hypot(*np.diff(pts, axis=0).T)
+    total = seg.sum()
+    if total == 0.0:
+        return pts[:1]
+    n = int(min(most, max(len(pts), np.ceil(total / step) + 1)))
+    s = np.concatenate([[0.0], np.cumsum(seg)])
+    t = np.linspace(0.0, total, n)
+    return np.column_stack([np.interp(t, s, pts[:, 0]), np.interp(t, s, pts[:, 1])])
+
+
+def _near(p: np.ndarray, q: np.ndarray, reach: float) -> np.ndarray:
+    """Whether each point ``p`` (n, 2) lies within ``reach`` pixels of the polyline ``q``
+    (m, 2). Points go in chunks of 128, each against only the segments whose box comes within
+    ``reach`` of the chunk's box (a curve's neighbouring points meet few segments)."""
+    out = np.zeros(len(p), dtype=bool)
+    if len(q) == 1:
+        return np.hypot(*(p - q[0]).T) <= reach
+    a, d = q[:-1], np.diff(q, axis=0)
+    lo, hi = np.minimum(a, q[1:]) - reach, np.maximum(a, q[1:]) + reach
+    for start in range(0, len(p), 128):
+        pc = p[start : start + 128]
+        seg = np.flatnonzero(np.all((lo <= pc.max(axis=0)) & (hi >= pc.min(axis=0)), axis=1))
+        if seg.size == 0:
+            continue
+        ds = d[seg]
+        dd = np.einsum("ij,ij->i", ds, ds)
+        rel = pc[:, None, :] - a[seg][None]
+        t = np.clip(np.einsum("nmj,mj->nm", rel, ds) / np.where(dd > 0, dd, 1.0), 0.0, 1.0)
+        r = rel - t[..., None] * ds[None]
+        out[start : start + 128] = np.einsum("nmj,nmj->nm", r, r).min(axis=1) <= reach * reach
+    return out
+
+
+def _hidden_curves(ax, px: float, tol: float) -> list[str]:
+    """Named lines (series) whose drawn stroke lies wholly under opaque solid lines drawn after
+    them and at least as wide (a line with markers only when a later line has markers too)."""
+    order = _draw_order(ax)
+    problems = []
+    for i, line in enumerate(order):
+        if line.get_label().startswith("_"):
+            continue  # series have names; unnamed lines are drawings' parts or guides
+        later = [
+            ln
+            for ln in order[i + 1 :]
+            if _has_stroke(ln) and ln.get_linestyle() == "-" and (ln.get_alpha() or 1.0) > 0.9
+        ]
+        if not later or not _has_stroke(line):
+            continue
+        if _has_marker(line) and not any(_has_marker(ln) for ln in later):
+            continue  # the markers stay in sight
+        pts = _line_points(line)
+        b = ax.bbox
+        shown = (b.x0 <= pts[:, 0]) & (pts[:, 0] <= b.x1) & (b.y0 <= pts[:, 1])
+        shown &= pts[:, 1] <= b.y1
+        if not shown.any():
+            continue  # all out of view: nothing to hide
+        pts = _densify(pts)
+        own = line.get_linewidth() * px / 2.0
+        covers = []  # (the other line's pixels, how near a point must be to lie under it)
+        for other in later:
+            reach = other.get_linewidth() * px / 2.0 - own + tol  # this stroke's whole width
+            q = _line_points(other)  # inside the other's
+            if reach >= 0.0 and len(q):  # (a thin line over a wide one leaves it in sight)
+                covers.append((q, reach))
+        # a sample first: hidden needs every point covered, and most curves part somewhere
+        sample = pts[np.unique(np.linspace(0, len(pts) - 1, min(len(pts), 24)).astype(int))]
+        hits = [_near(sample, q, reach) for q, reach in covers]
+        if not np.logical_or.reduce(hits, axis=0).all():
+            continue
+        uncovered = np.ones(len(pts), dtype=bool)
+        for k in np.argsort([-h.sum() for h in hits], kind="stable"):  # likeliest cover first
+            q, reach = covers[k]
+            todo = np.flatnonzero(uncovered)
+            uncovered[todo] = ~_near(pts[todo], q, reach)
+            if not uncovered.any():
+                break
+        if not uncovered.any():
+            problems.append(
+                f"{line.get_label()!r} in {ax.get_title()!r} is hidden under later curves"
+            )
+    return problems
+
+
+def _reference_lines_on_frame(ax, tol: float) -> list[str]:
+    """Horizontal or vertical lines (axhline, axvline, constant series) drawn on the axes'
+    frame, where the frame hides them."""
+    b = ax.bbox
+    problems = []
+    for line in _draw_order(ax):
+        if not _has_stroke(line):
+            continue
+        pts = _line_points(line)
+        if len(pts) < 2:
+            continue
+        half = line.get_linewidth() * ax.figure.dpi / 72.0 / 2.0
+        # (name, the constant coordinate, the other one, the frame's edges, the view's span)
+        for where, const, other, edges, span in (
+            ("horizontal", pts[:, 1], pts[:, 0], (b.y0, b.y1), (b.x0, b.x1)),
+            ("vertical", pts[:, 0], pts[:, 1], (b.x0, b.x1), (b.y0, b.y1)),
+        ):
+            shown = np.ptp(np.clip(other, *span))
+            if np.ptp(const) > tol or shown < 0.1 * (span[1] - span[0]):
+                continue
+            pos = const[0]
+            if not edges[0] - half - tol <= pos <= edges[1] + half + tol:
+                continue  # out of view
+            if min(abs(pos - edges[0]), abs(pos - edges[1])) <= half + tol + 1.0:
+                label = line.get_label()
+                name = label if not label.startswith("_") else "a reference line"
+                problems.append(
+                    f"{where} line {name!r} of {ax.get_title()!r} lies on the axes' frame"
+                )
+    return problems
+
+
+def _look(line) -> tuple:
+    """What tells a legend's line apart, colour and width aside: dash pattern, marker and
+    whether the marker is hollow."""
+    from matplotlib.colors import to_rgba
+
+    dash = line._unscaled_dash_pattern if _has_stroke(line) else None
+    dash = None if dash is None else (dash[0], tuple(dash[1]) if dash[1] else None)
+    marker = line.get_marker() if _has_marker(line) else None
+    hollow = marker is not None and to_rgba(line.get_markerfacecolor())[3] == 0.0
+    return (dash, marker, hollow)
+
+
+def _colour_only(leg, where: str, wider: float = 1.6) -> list[str]:
+    """Entries of the legend ``leg`` whose lines differ from each other by colour alone: the
+    same dash pattern and marker, and line widths less than ``wider`` times apart."""
+    from matplotlib.colors import to_rgba
+    from matplotlib.lines import Line2D
+
+    handles = getattr(leg, "legend_handles", None) or leg.legendHandles
+    entries = [
+        (h, t.get_text())
+        for h, t in zip(handles, leg.get_texts())
+        if isinstance(h, Line2D) and (_has_stroke(h) or _has_marker(h))
+    ]
+    looks = [_look(h) for h, _ in entries]
+    widths = [max(h.get_linewidth(), 1e-3) if _has_stroke(h) else 1.0 for h, _ in entries]
+    group = list(range(len(entries)))  # alike entries joined into groups (union-find)
+
+    def root(k):
+        while group[k] != k:
+            k = group[k]
+        return k
+
+    for a in range(len(entries)):
+        for b in range(a + 1, len(entries)):
+            ratio = max(widths[a], widths[b]) / min(widths[a], widths[b])
+            if looks[a] == looks[b] and ratio < wider:
+                group[root(b)] = root(a)
+    members: dict[int, list] = {}
+    for k, entry in enumerate(entries):
+        members.setdefault(root(k), []).append(entry)
+    problems = []
+    for alike in members.values():
+        if len(alike) < 2:
+            continue
+        colours = {to_rgba(h.get_color()) for h, _ in alike}
+        names = ", ".join(repr(t) for _, t in alike)
+        how = "colour only" if len(colours) == len(alike) else "nothing (same colour too)"
+        problems.append(f"series {names} of {where} are told apart by {how}")
+    return problems
+
+
+def _unequal_scales(ax, rtol: float = 0.01) -> str | None:
+    """A directional axes (:func:`equal_axes`) whose x and y scales differ, as drawn."""
+    if not getattr(ax, DIRECTIONAL, False) or ax.name != "rectilinear":
+        return None
+    x0, x1 = ax.get_xlim()
+    y0, y1 = ax.get_ylim()
+    b = ax.bbox
+    if min(b.width, b.height) <= 0:
+        return None
+    sx, sy = abs(x1 - x0) / b.width, abs(y1 - y0) / b.height
+    if abs(sx - sy) <= rtol * max(sx, sy):
+        return None
+    return (
+        f"axes {ax.get_title()!r} shows directions but its x and y scales differ "
+        f"({sx / sy:.3g}:1): use plotting.equal_axes"
+    )
+
+
 def layout_problems(fig, tol: float = 0.5) -> list[str]:
     """What a reader would see as defects of a drawn figure, one line each (empty if none):
 
@@ -267,7 +490,15 @@ def layout_problems(fig, tol: float = 0.5) -> list[str]:
     * a marker drawn so close to its axes' edge that the axes clip part of it;
     * an axis labelled with a raw parameter name (``N_guide_angle, deg``) instead of words;
     * tick labels that need more than four digits before the decimal point (``200000``): the
-      unit wants an engineering prefix (k, M) or a scale.
+      unit wants an engineering prefix (k, M) or a scale;
+    * a named curve (a series with a label) hidden under others: every drawn pixel of its stroke
+      lies under opaque solid lines drawn after it (within ``tol`` pixels, at least one, of
+      their edges), e.g. two joints' equal forces; a wide pale line under a thin one shows;
+    * a horizontal or vertical line (axhline, axvline, a constant series) on the axes' frame;
+    * two or more series of one legend that differ by colour only (same dash pattern and
+      marker, widths less than 1.6 times apart), unreadable in grey print and to a
+      colour-blind reader;
+    * axes marked directional by :func:`equal_axes` whose x and y scales differ as drawn.
     """
     import re
 
@@ -276,6 +507,7 @@ def layout_problems(fig, tol: float = 0.5) -> list[str]:
     fig.canvas.draw()
     renderer = fig.canvas.get_renderer()
     problems = []
+    px = fig.dpi / 72.0  # pixels per point
     fb = fig.bbox
     texts = _texts(fig)
     owners = {}
@@ -294,20 +526,28 @@ def layout_problems(fig, tol: float = 0.5) -> list[str]:
             h = min(ba.y1, bbx.y1) - max(ba.y0, bbx.y0)
             if w > tol and h > tol:
                 problems.append(f"texts {a.get_text()!r} and {b.get_text()!r} overlap")
+    for leg in fig.legends:
+        problems += _colour_only(leg, "the figure's legend")
     for ax in fig.axes:
+        if ax.name == "rectilinear":  # projected (3-D, polar) axes draw lines their own way
+            problems += _hidden_curves(ax, px, max(tol, 1.0))
+            problems += _reference_lines_on_frame(ax, tol)
+        unequal = _unequal_scales(ax)
+        if unequal:
+            problems.append(unequal)
         leg = ax.get_legend()
         if leg is not None and leg.get_visible():
+            problems += _colour_only(leg, repr(ax.get_title()))
             lb = leg.get_window_extent(renderer)
             # data curves only (reference lines such as axhline span the axes)
             for line in (ln for ln in ax.get_lines() if ln.get_transform() == ax.transData):
-                hidden = [
-                    p
-                    for p in _line_points(line)
-                    if lb.x0 < p[0] < lb.x1 and lb.y0 < p[1] < lb.y1 and ax.bbox.contains(*p)
-                ]
-                if hidden:
+                pts, b = _line_points(line), ax.bbox
+                x, y = pts[:, 0], pts[:, 1]
+                under = (lb.x0 < x) & (x < lb.x1) & (lb.y0 < y) & (y < lb.y1)
+                under &= (b.x0 <= x) & (x <= b.x1) & (b.y0 <= y) & (y <= b.y1)
+                if under.any():
                     problems.append(
-                        f"legend of {ax.get_title()!r} hides {len(hidden)} point(s) of "
+                        f"legend of {ax.get_title()!r} hides {int(under.sum())} point(s) of "
                         f"{line.get_label()!r}"
                     )
         for line in ax.get_lines():

@@ -8,10 +8,11 @@ import matplotlib
 
 matplotlib.use("Agg")
 
+import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
-from mechsynth.plotting import layout_problems  # noqa: E402
+from mechsynth.plotting import LINESTYLES, layout_problems  # noqa: E402
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
@@ -77,6 +78,151 @@ def test_layout_checker_passes_a_clean_figure():
     ax.set_xlabel("x, m")
     ax.legend(loc="lower right")
     assert layout_problems(fig) == []
+    plt.close(fig)
+
+
+def _figure(size=(5, 3), **kw):
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=size, layout="constrained", **kw)
+    for a in np.atleast_1d(ax):
+        a.set_xlabel("crank angle, deg")
+        a.set_ylabel("force, kN")
+    return fig, ax
+
+
+def test_the_checker_sees_a_curve_hidden_under_a_later_one():
+    import matplotlib.pyplot as plt
+
+    x = np.linspace(0.0, 360.0, 181)
+    y = np.sin(np.radians(x))
+    fig, ax = _figure()
+    ax.plot(x, y, label="joint A")
+    ax.plot(x, y + 1e-4, label="joint O", ls="--")  # dashed: A shows through its gaps
+    ax.plot(x, 0.5 * y, label="joint B", ls=":")
+    ax.legend(loc="lower left")
+    assert layout_problems(fig) == []
+    ax.plot(x, y, label="joint C", ls="-.")
+    ax.lines[1].set_linestyle("-")  # now a solid line covers A
+    ax.get_legend().remove()
+    ax.legend(loc="lower left")
+    problems = layout_problems(fig)
+    assert any("'joint A'" in p and "hidden" in p for p in problems), problems
+    assert not any("'joint B'" in p and "hidden" in p for p in problems)
+    plt.close(fig)
+    # a wide pale line under a thin one shows on both sides; a translucent line hides nothing
+    fig, ax = _figure()
+    ax.plot(x, y, color="0.6", lw=3, label="planar unit")
+    ax.plot(x, y, lw=1, label="spatial drive")
+    ax.plot(x, 0.5 * y, lw=1, ls="--", label="half")
+    ax.plot(x, 0.5 * y, lw=3, alpha=0.5, label="half, pale")
+    ax.legend(loc="lower left")
+    assert not any("hidden" in p for p in layout_problems(fig))
+    plt.close(fig)
+    # a curve on a zero line drawn after it is hidden too; drawn before, it is in sight
+    for first, hidden in ((True, True), (False, False)):
+        fig, ax = _figure()
+        if not first:
+            ax.axhline(0.0, color="k", lw=0.8)
+        ax.plot(x, np.zeros_like(x), lw=0.8, label="guide")
+        if first:
+            ax.axhline(0.0, color="k", lw=0.8)
+        ax.set_ylim(-1, 1)
+        assert any("'guide'" in p for p in layout_problems(fig)) == hidden
+        plt.close(fig)
+
+
+def test_the_checker_sees_reference_lines_on_the_frame():
+    import matplotlib.pyplot as plt
+
+    for pos, on_frame in ((5.0, True), (4.5, False), (6.0, False)):
+        fig, ax = _figure()
+        ax.plot([0, 360], [1, 4])
+        ax.axhline(pos, ls="--", color="k", label="5 % limit")
+        ax.set_ylim(0, 5)
+        problems = layout_problems(fig)
+        assert any("lies on the axes' frame" in p for p in problems) == on_frame, (pos, problems)
+        plt.close(fig)
+    fig, ax = _figure()
+    ax.plot([0, 360], [1, 4])
+    ax.plot([0, 360], [0, 0], ls=":")  # a constant series on the lower frame
+    ax.axvline(360.0, ls="--")
+    ax.set_xlim(0, 360)
+    ax.set_ylim(0, 5)
+    problems = " | ".join(layout_problems(fig))
+    assert "horizontal line" in problems and "vertical line" in problems
+    plt.close(fig)
+
+
+def test_the_checker_sees_series_told_apart_by_colour_only():
+    import matplotlib.pyplot as plt
+
+    x = np.linspace(0.0, 1.0, 11)
+    fig, ax = _figure()
+    ax.plot(x, x, color="r", label="left, 5 %")
+    ax.plot(x, 2 * x, color="g", label="right, 5 %")
+    ax.plot(x, 3 * x, color="r", ls="--", label="left, 10 %")
+    ax.legend(loc="upper left")
+    ax.set_ylim(-2, 4)
+    problems = layout_problems(fig)
+    assert any("'left, 5 %', 'right, 5 %'" in p and "colour only" in p for p in problems)
+    plt.close(fig)
+    fig, ax = _figure()
+    ax.plot(x, x, color="r", label="left")
+    ax.plot(x, 2 * x, color="g", ls="--", label="right")
+    ax.plot(x, 3 * x, "o", color="b", label="measured")
+    ax.plot(x, 4 * x, "s", color="k", mfc="none", label="published")
+    ax.plot(x, x - 1.5, color="b", lw=2.6, label="limit")  # as "left" but twice as wide
+    ax.set_ylim(-2, 5)
+    ax.legend(loc="upper left", ncols=2)
+    assert layout_problems(fig) == []
+    plt.close(fig)
+    fig, ax = _figure(ncols=2)  # a figure-level legend is checked too
+    ax[0].plot(x, x, color="r", label="a")
+    ax[1].plot(x, x, color="g", label="b")
+    fig.legend(loc="outside lower center", ncols=2)
+    assert any("the figure's legend" in p for p in layout_problems(fig))
+    plt.close(fig)
+
+
+def test_the_checker_sees_unequal_scales_on_directional_axes():
+    import matplotlib.pyplot as plt
+
+    from mechsynth.plotting import equal_axes
+
+    t = np.linspace(0.0, 2.0 * np.pi, 60)
+    fig, ax = _figure()
+    ax.plot(3.0 * np.cos(t), np.sin(t))
+    ax.mechsynth_directional = True  # marked, but scales left free
+    problems = layout_problems(fig)
+    assert any("x and y scales differ" in p for p in problems), problems
+    plt.close(fig)
+    for adjustable in ("box", "datalim"):
+        fig, ax = _figure((4, 4))
+        ax.plot(3.0 * np.cos(t), np.sin(t))
+        equal_axes(ax, adjustable)
+        ax.margins(0.1)
+        assert layout_problems(fig) == []
+        plt.close(fig)
+    fig, ax = _figure()  # unmarked axes: any scales go
+    ax.plot(3.0 * np.cos(t), np.sin(t))
+    ax.margins(0.1)
+    assert layout_problems(fig) == []
+    plt.close(fig)
+
+
+def test_the_checks_are_fast_on_a_busy_figure():
+    import time
+
+    import matplotlib.pyplot as plt
+
+    x = np.linspace(0.0, 360.0, 721)
+    fig, ax = _figure()
+    for k in range(12):
+        ax.plot(x, np.sin(np.radians(x) + 0.3 * k), ls=LINESTYLES[k % 6], lw=1 + k // 6)
+    t0 = time.perf_counter()
+    layout_problems(fig)
+    assert time.perf_counter() - t0 < 2.0
     plt.close(fig)
 
 

@@ -269,7 +269,7 @@ class ForceResult:
         Returns the figure."""
         import matplotlib.pyplot as plt
 
-        from ..plotting import force_unit
+        from ..plotting import equal_axes, force_unit
 
         if ax is None:
             _, ax = plt.subplots(figsize=(6, 4), layout="constrained")
@@ -278,7 +278,7 @@ class ForceResult:
         x, y = np.append(fx, fx[:1]) / div, np.append(fy, fy[:1]) / div
         ax.plot(x, y, label=label or joint, **style)
         ax.plot([0], [0], "k+", ms=8)
-        ax.set_aspect("equal", adjustable="box")
+        equal_axes(ax, "box")  # directions matter: marked for the figure checks
         ax.set_xlabel(f"{joint} x, {name}")
         ax.set_ylabel(f"{joint} y, {name}")
         ax.grid(True, alpha=0.35, ls=":")

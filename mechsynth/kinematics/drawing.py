@@ -22,7 +22,7 @@ from matplotlib import animation as manim
 
 from .. import display
 from ..errors import MechanismError
-from ..plotting import PALETTE
+from ..plotting import PALETTE, equal_axes
 from .sketch import Sketch
 
 __all__ = ["draw_sketch", "animate_sketch", "MechanismAnimation"]
@@ -303,11 +303,11 @@ def _figsize(sketch: Sketch, width: float) -> tuple[float, float]:
 def _prepare_axes(ax, scene: _Scene, sketch: Sketch, fresh: bool):
     x0, x1, y0, y1 = scene.limits()
     if fresh:
-        ax.set_aspect("equal", adjustable="box")
+        equal_axes(ax, "box")  # marked: layout_problems checks the scales stay equal
         ax.set_xlim(x0, x1)
         ax.set_ylim(y0, y1)
     else:
-        ax.set_aspect("equal", adjustable="datalim")
+        equal_axes(ax, "datalim")
         ax.update_datalim([(x0, y0), (x1, y1)])
         ax.autoscale_view()
     unit = display.current().unit("m")

@@ -844,12 +844,12 @@ def _write(out, theta, w, units, card, table, front, data, best_design=None):
         div, tunit = torque_unit(np.concatenate([c[1] for c in curves.values()]))
         for name, (net, well) in curves.items():
             c = colours[name]
-            ax.plot(
-                x, net / div, color=c, lw=2.0, label=f"{names[name]}: net, optimal counterbalance"
-            )
-            ax.plot(
-                x, well / div, color=c, ls=":", lw=1.1, label=f"{names[name]}: no counterbalance"
-            )
+            # variants by dash (and colour), net against no counterbalance by width
+            ls = styles[name]
+            net_label = f"{names[name]}: net, optimal counterbalance"
+            ax.plot(x, net / div, color=c, ls=ls, lw=2.2, label=net_label)
+            well_label = f"{names[name]}: no counterbalance"
+            ax.plot(x, well / div, color=c, ls=ls, lw=0.9, label=well_label)
         ax.axhline(0.0, color="0.3", lw=0.7)
         ax.set_ylabel(f"crank torque, {tunit}")
         ax.set_title(
@@ -939,12 +939,12 @@ def _front_with_variants(front, title, table, xy, label, colours, ncol):
 
     fig = front.plot(title=title)
     ax = fig.axes[0]
-    for name, t in table.items():
+    for k, (name, t) in enumerate(table.items()):
         x, xu, y, yu = xy(t)
         ax.plot(
             display.convert(x, xu)[0],
             display.convert(y, yu)[0],
-            "D",
+            "Ds^v"[k % 4],  # told apart by shape, not colour alone
             ms=8,
             color=colours[name],
             mec="k",

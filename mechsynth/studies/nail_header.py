@@ -491,7 +491,7 @@ def _write(out, results, table, opt, phi, drive):
             ax.plot(
                 [o["mass"]],
                 [o["peak"] / div],
-                "o",
+                "osD"[k % 3],  # told apart by shape, as the scans by their dashes
                 ms=8,
                 color=PALETTE[4 + k],
                 mec="k",
@@ -811,7 +811,7 @@ def _balance_figure(out, phi, b):
             ax.plot(
                 peak_reaction(maps, xv) / 1e3,
                 peak_shaking(maps, xv) / 1e3,
-                "D",
+                "D^v"[k % 3],
                 ms=7,
                 color=PALETTE[(3, 6, 7)[k]],
                 mec="k",
@@ -835,9 +835,9 @@ def _balance_figure(out, phi, b):
                 label=f"nail d = {c['d_mm']:g} mm",
             )
             ax.plot(c["own_mass"], c["own_peak"] / 1e3, "o", color=PALETTE[4 + k], mec="k")
-        for key, ls, label in (
-            ("robust", "--", "one slider: worst peak"),
-            ("compromise", ":", "one slider: worst ratio to own optimum"),
+        for key, ls, label in (  # dash patterns the nail sizes' curves do not use
+            ("robust", (0, (8, 2, 1, 2, 1, 2)), "one slider: worst peak"),
+            ("compromise", (0, (1, 3)), "one slider: worst ratio to own optimum"),
         ):
             ax.axvline(
                 n[key]["mass"],

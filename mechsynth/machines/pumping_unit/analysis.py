@@ -415,7 +415,7 @@ def _write(out, unit, theta, m, tc, pl, U, cv, data):
             ax.plot(
                 px[ok & up],
                 pl["upper"][ok & up] * f,
-                ".",
+                "^",  # told apart by shape too: a maximum points up, a minimum down
                 ms=2,
                 color=PALETTE[5],
                 label="permissible load, upstroke (maximum)",
@@ -423,7 +423,7 @@ def _write(out, unit, theta, m, tc, pl, U, cv, data):
             ax.plot(
                 px[ok & ~up],
                 pl["lower"][ok & ~up] * f,
-                ".",
+                "v",
                 ms=2,
                 color=PALETTE[4],
                 label="permissible load, downstroke (minimum)",
