@@ -31,13 +31,16 @@ def main(out=OUT):
         ax = axes[0, col]
         bottom, top = (float(t) for t in u.dead_centres)
         positions = (
-            (bottom, "#0072B2", "bottom"),
-            (top, "#D55E00", "top"),
-            (np.pi / 2, "0.6", "90"),
+            (bottom, "#0072B2", "bottom", "o"),
+            (top, "#D55E00", "top", "s"),
+            (np.pi / 2, "0.6", "90", "^"),
         )
-        for k, (t, c, lab) in enumerate(positions):
+        for k, (t, c, lab, mk) in enumerate(positions):
             u.draw(t, ax=ax, color=c, alpha=0.9, labels=k == 0)
-            ax.plot([], [], color=c, label=f"{lab}: {np.rad2deg(t):.1f} deg")
+            # the pose's crank pin A marked: the poses told apart by shape, not colour alone
+            pin = u.motion(np.array([t])).points["A"]
+            ax.plot(pin.x, pin.y, mk, color=c, mec="k", ms=7, ls="none", zorder=5,
+                    label=f"{lab}: {np.rad2deg(t):.1f} deg")  # fmt: skip
         ax.set_title(name)
         # beside the drawing, not over the crank
         ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0), title="crank at")
@@ -45,7 +48,7 @@ def main(out=OUT):
         ax.plot(np.rad2deg(theta), ms.to_inch(u.torque_factor(theta)))
         ax.axhline(0, color="k", lw=0.6)
         ax.axvline(np.rad2deg(bottom), color="#0072B2", ls="--", label="bottom dead centre")
-        ax.axvline(np.rad2deg(top), color="#D55E00", ls="--", label="top dead centre")
+        ax.axvline(np.rad2deg(top), color="#D55E00", ls="-.", label="top dead centre")
         ax.legend(fontsize=8, loc="upper right" if col == 0 else "upper left")  # clear of the curve
         ax.set_xlabel("crank angle from 12 o'clock in the direction of rotation, deg")
         ax.set_ylabel("torque factor, in")
