@@ -321,20 +321,26 @@ def _design(x, sigma, m, centre, scale):
 def bound_region(targets, bounds=None) -> dict:
     """The box of :data:`COORDS` (m) that holds every four-bar within ``bounds`` (the
     :func:`~mechsynth.path_generation` bounds, its defaults for the names not given): the crank
-    pivot's box, the crank vector within ``+-crank`` upper bound, the rocker pivot within the
-    ground's upper bound of the crank pivot's box, the coupler and rocker bounds."""
+    pivot's box, the crank vector within ``+-crank`` upper bound, the rocker pivot the crank
+    pivot's box plus the ground vector over its length and direction bounds (interval
+    arithmetic), the coupler and rocker bounds."""
     from .path_generation import _check_bounds
 
     t = np.asarray(targets, dtype=float)
     b = _check_bounds(bounds, t)
-    c, g = b["crank"][1], b["ground"][1]
+    c = b["crank"][1]
+    # the rocker pivot O1 + ground (cos angle, sin angle): interval arithmetic on the bounds
+    g = (np.array(b["ground"][0]), np.array(b["ground"][1]))
+    a0, a1 = np.array(b["angle"][0]), np.array(b["angle"][1])
+    cx = _times(*g, *_cos_interval(a0, a1))
+    sy = _times(*g, *_cos_interval(a0 - 0.5 * np.pi, a1 - 0.5 * np.pi))
     return {
         "x0": b["x0"],
         "y0": b["y0"],
         "crank_x": (-c, c),
         "crank_y": (-c, c),
-        "x2": (b["x0"][0] - g, b["x0"][1] + g),
-        "y2": (b["y0"][0] - g, b["y0"][1] + g),
+        "x2": (b["x0"][0] + float(cx[0]), b["x0"][1] + float(cx[1])),
+        "y2": (b["y0"][0] + float(sy[0]), b["y0"][1] + float(sy[1])),
         "coupler": b["coupler"],
         "rocker": b["rocker"],
         "_crank": b["crank"],
