@@ -239,3 +239,19 @@ def test_cli_bound(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1
     assert err[0].startswith("mechsynth: error: --bound needs --timing prescribed")
+
+
+def test_bound_region_holds_every_four_bar_of_the_bounds():
+    t, d, ang = exact_case(9)
+    fixed = {k: (d[k] - 1e-6, d[k] + 1e-6) for k in ("x0", "y0", "ground", "angle")}
+    bounds = {**fixed, "crank": (0.5, 1.5), "coupler": (2, 4), "rocker": (2, 3)}
+    reg = pb.bound_region(t, bounds)
+    assert reg["x2"][1] - reg["x2"][0] < 1e-5 and reg["crank_x"] == (-1.5, 1.5)
+    rng = np.random.default_rng(2)
+    lo = np.array([v[0] for v in bounds.values()])
+    hi = np.array([v[1] for v in bounds.values()])
+    for row in lo + (hi - lo) * rng.uniform(size=(200, len(bounds))):
+        des = dict(zip(bounds, row), u=0.0, v=0.0)
+        x = pb.box_point(des, rng.uniform(0, 2 * np.pi))
+        for k, v in zip(pb.COORDS, x):
+            assert reg[k][0] <= v <= reg[k][1], k
