@@ -233,12 +233,13 @@ def _orders(layout) -> dict:
     return out
 
 
-#: LLVM's fast-math flags of a kernel's row: fused multiply-adds (``contract``), a divisor's
-#: reciprocal shared by its quotients (``arcp``), sums reordered (``reassoc``), the sign of a
-#: zero ignored (``nsz``): 1.3-1.5 x faster on a Watt II, every output within 5e-15 of the
-#: model's (relative to its size). Not ``nnan``/``ninf``: NaN and inf mark the designs the
-#: model must judge, and the finite test ``x - x`` must stay.
-_FASTMATH = ("arcp", "contract", "nsz", "reassoc")
+#: LLVM's fast-math flags of a kernel's row: fused multiply-adds (``contract``) alone, 1.3 x
+#: faster per evaluation on a Watt II, every output within 5e-15 of the model's (relative to its
+#: size). Not ``reassoc``, ``nsz``, ``nnan`` or ``ninf``: NaN and inf mark the designs the model
+#: must judge, and reassociation cancels ``x + (-x)`` whatever x is (with ``arcp``, ``nsz`` and
+#: ``reassoc`` together a NaN did not reach the finite test: failed designs read as good); the
+#: sign of a zero picks ``arctan2``'s branch at pi.
+_FASTMATH = ("contract",)
 
 
 def _source(f, layout, stamp) -> str:
@@ -345,6 +346,7 @@ def _source(f, layout, stamp) -> str:
         f"STAMP = {stamp!r}",
         "",
         "",
+        "@@finite@@",
         '@numba.njit(error_model="numpy", cache=True, nogil=True, fastmath={'
         + ", ".join(map(repr, _FASTMATH))
         + "})",  # a set written in one order: the same text, the same cached module
@@ -360,7 +362,10 @@ def _source(f, layout, stamp) -> str:
     ]
     # per input, not accumulated: a running sum or minimum would keep the loop from being
     # vectorized (floating-point reductions are not reordered without fastmath)
-    finite, least = ["0.0"], ["math.inf"]
+    # finite test: one sum of the outputs, then ``t - t`` (NaN where one is NaN or inf; a sum
+    # that overflows sends a finite design to the model, the safe side), in functions compiled
+    # without fast-math flags (a sum of an output and its negation must stay NaN)
+    finite, fixed, least = ["fixed"], [], ["math.inf"]
     orders = _orders(layout)
     margins = {off for kind, _, off, _ in layout if kind == "margins"}
     raw = dict(writes)
@@ -368,11 +373,27 @@ def _source(f, layout, stamp) -> str:
         order, first = orders.get(r, (0, None))
         value = (name, f"w * {name}", f"w2 * {name} + e * {raw.get(first)}")[order]
         lines.append(ind + f"out[{r}, i, j] = {value}")
-        finite.append(f"({name} - {name})")
+        (finite if varies[name] else fixed).append(name)
         if r in margins:
             least = [f"min({least[0]}, {name})"]
+    fixed = fixed or ["0.0"]
+    lines.insert(lines.index("    w2 = w * w"), f"    fixed = finite_fixed({', '.join(fixed)})")
+    at = lines.index("@@finite@@")
+    lines[at : at + 1] = [
+        text
+        for fn, names in (("finite_fixed", fixed), ("finite_varying", finite))
+        for args in ([f"a{k}" for k in range(len(names))],)
+        for text in (
+            '@numba.njit(error_model="numpy", cache=True, nogil=True)',
+            f"def {fn}({', '.join(args)}):",
+            f"    t = {' + '.join(args)}",
+            "    return t - t",
+            "",
+            "",
+        )
+    ]
     lines += [
-        ind + f"check[0, j] = {' + '.join(finite)}",
+        ind + f"check[0, j] = finite_varying({', '.join(finite)})",
         ind + f"check[1, j] = {least[0]}",
         "    flags[i, 0] = check[0].sum()",
         "    flags[i, 1] = check[1].min() if phi.shape[0] else math.inf",
