@@ -66,8 +66,9 @@ class PathBound:
     ----------
     lower : proved lower bound on the sum of squared distances (m^2) of every four-bar in the
         region (either branch unless one is named), whatever its other constraints.
-    best : the best error known (m^2): the design given (``best=``), else the best box centre
-        (a four-bar assembled at every target; its full turn not checked); ``inf`` if none.
+    best : the best error known (m^2): the design's given (``best=``), else the best box
+        centre's (a four-bar assembled at every target; its full turn not checked); ``inf`` if
+        none. When a box centre does better than the design given, the message says so.
     gap : ``best - lower`` (m^2); ``relative_gap``: ``gap / best`` (0 when both are 0).
     closed : the gap is within the tolerance (``rtol * best`` or ``atol``).
     useful : the bound says something: closed, or ``lower >= best / 2`` (the best is then
@@ -77,7 +78,8 @@ class PathBound:
     region : the searched box ``{coordinate: (lower, upper)}`` (m) of :data:`COORDS`;
         ``branches``: the assembly branches searched.
     best_design : the best box centre's design ``{name: value}`` (the four-bar's variables,
-        :data:`~mechsynth.synthesis.path_result.NAMES`, m and rad, and ``branch``), or None.
+        :data:`~mechsynth.synthesis.path_result.NAMES`, m and rad, ``phi1`` the crank angle at
+        the first target, ``branch`` and ``error``), or None.
     message : why the search stopped, and whether the bound is useful.
     """
 
@@ -534,22 +536,30 @@ def path_bound(
         sg = np.concatenate([sg[rest], csg])
         lb = np.concatenate([lb[rest], clb])
     lower = max(0.0, lower) * scale**2
-    best_v = min(ub_given, ub) * scale**2
+    relaxed = ub * scale**2  # the tree's best centre (or the design given)
+    best_v = relaxed if best is None else float(best)
     gap = best_v - lower
     rel = 0.0 if gap <= 0 or best_v == 0 else gap / best_v
     closed = bool(gap <= max(rtol * best_v, a_tol * scale**2))
     useful = bool(closed or (np.isfinite(best_v) and lower >= 0.5 * best_v))
     if lb.size == 0:
-        stop = "every box resolved (the gap closed)"
+        stop = "every box resolved"
     what = (
         "the bound proves the best within the tolerance of the global optimum" if closed
         else "useful: the best is within a factor 2 of the global optimum" if useful
         else "no useful bound: the lower bound is below half the best (refine the region or "
         "give more boxes)"
     )  # fmt: skip
+    if best is not None and relaxed < best_v * (1 - rtol) - a_tol * scale**2:
+        what += (
+            f"; a four-bar of the region assembled at the targets reaches {relaxed:.6g} m^2 "
+            "(best_design: its full turn, transmission angle and other constraints are not "
+            "checked)"
+        )
     design = None
     if inc is not None:
         design = _design(inc[0], inc[1], inc[2], centre, scale)
+        design["error"] = relaxed
     return PathBound(
         lower=float(lower),
         best=float(best_v),
