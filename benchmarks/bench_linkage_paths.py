@@ -7,9 +7,9 @@ to the ground) and paper 001's six-link (``ms.six_link()``: crank, RRR, a point 
 a rod and slider on a guide). Designs differ in their crank's and last dyad's lengths (up to
 +-1 %), so that every group of a batch is a batch.
 
-Each row is timed as the median of ``--repeat`` samples, each sample ``--runs`` times (three by
-default) in one process, and printed as the three runs' times and their ratios to the numpy
-model's time in the same run:
+Each row is timed (CPU time of the process, every path on one thread) as the median of
+``--repeat`` samples, each sample ``--runs`` times (three by default) in one process, and
+printed as the three runs' times and their ratios to the numpy model's time in the same run:
 
 * ``Linkage.motion``: every output (every point's position, velocity and acceleration, every
   link's angle and analogs, sliders, per-group pressure and transmission angles and assembly
@@ -18,16 +18,23 @@ model's time in the same run:
   (:func:`plain_numpy`), checked against the model to 1e-12;
 * ``plain numpy, positions``: the points' positions alone, by hand;
 * ``kernel via linkage_batch``: the generated kernel through the API (the Motion of the batch,
-  every output); ``kernel raw``: the kernel's call into a reused block;
+  every output); ``kernel raw``: the kernel's call into a reused block. Both in chunks of a 2
+  MiB block (:data:`KERNEL_BLOCK`, a few designs), which stays in the caches; ``kernel raw,
+  chunks of 182 designs`` shows the cost of a 33 MB block written out to memory;
 * pylinkage 1.3.0 (``pip install pylinkage==1.3.0``; the rows are skipped without it): its
   position loop ``Linkage.step`` (one design after the other; at 10,000 designs on a sample of
-  100, scaled, and marked so), its compiled ``step_fast``, its ensemble API
+  10, scaled, and marked so), its compiled ``step_fast``, its ensemble API
   (``Ensemble.simulate``: positions of every member in one compiled call) and its kinematics
   ``step_fast_with_kinematics`` (positions, velocities and accelerations); its positions are
   checked equal to the model's to 1e-9.
 
-Also printed: the kernel's first compilation and its load from the disk cache in fresh processes
-with a new cache directory (``--compile``).
+Below each table, the ratios the paths are judged by (:data:`GOALS`), per run.
+
+With ``--compile``, new processes with a new cache directory time the kernel's first
+compilation (blocking), its load from the disk cache after numba's start (numba's import and
+first-use set-up, paid once per process by any compiled function, timed apart), and
+``linkage_kernel(..., wait=False)``: how soon the first call returns, how many motions the model
+serves while the kernel compiles in the background, and when the kernel is ready.
 
 Run: ``python benchmarks/bench_linkage_paths.py [--designs 1 100 10000] [--runs 3]
 [--compile] [--json]``. The machine these run on is shared: compare ratios within a run.
@@ -316,12 +323,22 @@ def pylinkage_check(lk):
 
 # ---------------------------------------------------------------------------- timing
 def timed(fn, repeat):
+    """The median CPU time of one call of ``fn`` over ``repeat`` samples, each sample as many
+    calls as take some 20 ms (a call of tens of microseconds timed alone reads its cold caches
+    and the clock's own cost), after one call. CPU time: every path runs on one thread, and on
+    a shared machine the process's CPU time counts its own work, not the time other processes
+    hold the cores (its wall time varied 5-10 x between runs at a load average of 10 on 2
+    cores)."""
+    t = time.process_time()
     fn()
+    first = time.process_time() - t
+    calls = max(1, min(10_000, int(0.02 / max(first, 1e-7))))
     times = []
     for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
+        t = time.process_time()
+        for _ in range(calls):
+            fn()
+        times.append((time.process_time() - t) / calls)
     return statistics.median(times)
 
 
@@ -329,22 +346,40 @@ def timed(fn, repeat):
 #: 10,000 six-bars at 360 angles would be 1.7 GB
 CHUNK = 2**16 // 360
 
+#: the kernel's block per call (doubles): 2 MiB, within this machine's caches (1 MiB L2 a
+#: core, 32 MiB L3 shared), so the kernel's 60-odd output rows are not written out to memory
+#: and read back at every chunk (measured on a Watt II, 10,000 designs, CPU time: 130-170 ms
+#: in blocks of 0.7-2.9 MB, 300-320 ms in blocks of 182 designs, 33 MB)
+KERNEL_BLOCK = 2**18
+
+
+def kernel_chunk(kernel):
+    """Designs per kernel call: a block of :data:`KERNEL_BLOCK` doubles."""
+    return max(1, KERNEL_BLOCK // (kernel.outputs * PHI.size))
+
 
 def paths(name, n, have_pylinkage):
-    """``{row: function}`` for ``n`` designs of linkage ``name`` (in chunks of ``CHUNK``)."""
+    """``{row: function}`` for ``n`` designs of linkage ``name`` (in chunks of ``CHUNK``; the
+    kernel's in chunks of :func:`kernel_chunk`, and in chunks of ``CHUNK`` for comparison)."""
     size = min(n, CHUNK)
     count = -(-n // size)
     lk = designs(name, size)
     kernel = lkk.linkage_kernel(lk)
+    ksize = min(n, kernel_chunk(kernel))
+    kcount = -(-n // ksize)
+    klk = designs(name, ksize)
     ws = BatchWorkspace()
-    cols = [np.broadcast_to(np.asarray(lk.parameters[k], float).reshape(-1), (size,))
-            for k in kernel.names]  # fmt: skip
-    params = np.ascontiguousarray(np.stack(cols, axis=1))
-    block, flags = np.empty((kernel.outputs, size, PHI.size)), np.empty((size, 2))
 
-    def chunks(fn):
+    def raw_call(k, n_k):
+        cols = [np.broadcast_to(np.asarray(k.parameters[p], float).reshape(-1), (n_k,))
+                for p in kernel.names]  # fmt: skip
+        params = np.ascontiguousarray(np.stack(cols, axis=1))
+        block, flags = np.empty((kernel.outputs, n_k, PHI.size)), np.empty((n_k, 2))
+        return lambda: kernel(params, PHI, block, flags, speed=(SPEED, 0.0))
+
+    def chunks(fn, times=count):
         def run():
-            for _ in range(count):
+            for _ in range(times):
                 fn()
 
         return run
@@ -353,9 +388,13 @@ def paths(name, n, have_pylinkage):
         "Linkage.motion": chunks(lambda: lk.motion(PHI, speed=SPEED)),
         "plain numpy, every output": chunks(lambda: plain_numpy(lk, PHI, SPEED)),
         "plain numpy, positions": chunks(lambda: plain_positions(lk, PHI)),
-        "kernel via linkage_batch": chunks(lambda: lkk.linkage_batch(lk, PHI, SPEED, ws, kernel)),
-        "kernel raw": chunks(lambda: kernel(params, PHI, block, flags, speed=(SPEED, 0.0))),
+        "kernel via linkage_batch": chunks(
+            lambda: lkk.linkage_batch(klk, PHI, SPEED, ws, kernel), kcount
+        ),
+        "kernel raw": chunks(raw_call(klk, ksize), kcount),
     }
+    if ksize != size:
+        rows[f"kernel raw, chunks of {size} designs"] = chunks(raw_call(lk, size))
     if have_pylinkage:
         one, _ = pylinkage_of(designs(name, 1))
         sample = min(n, 10)
@@ -393,18 +432,59 @@ import time
 t = time.perf_counter()
 import mechsynth.kinematics.linkage_kernels as lkk
 from bench_linkage_paths import LINKAGES
-lkk.linkage_kernel(LINKAGES[{name!r}]())
-print(time.perf_counter() - t)
+lk = LINKAGES[{name!r}]()
+t0 = time.perf_counter()
+import numba
+from mechsynth.kinematics import scalar_ops
+scalar_ops.sqrt(1.0)  # numba's start: its import and first-use set-up (a cached function)
+t1 = time.perf_counter()
+lkk.linkage_kernel(lk)
+t2 = time.perf_counter()
+print(t0 - t, t1 - t0, t2 - t1)
+"""
+
+_CHILD_BEHIND = """
+import time
+import mechsynth.kinematics.linkage_kernels as lkk
+from bench_linkage_paths import LINKAGES, PHI, SPEED
+lk = LINKAGES[{name!r}]()
+t = time.perf_counter()
+first = lkk.linkage_kernel(lk, wait=False)
+returned = time.perf_counter() - t
+served = 0
+thread = lkk.kernel_pending(lk)
+while thread is not None and thread.is_alive():  # the model serves meanwhile
+    lk.motion(PHI, speed=SPEED)
+    served += 1
+ready = time.perf_counter() - t
+assert first is None and lkk.linkage_kernel(lk, wait=False) is not None
+print(returned, ready, served)
 """
 
 
-def fresh_process_seconds(name, cache):
+def fresh_process(script, name, cache):
+    """The numbers a new process prints (with its kernel cache in ``cache``)."""
     env = dict(os.environ, MECHSYNTH_CACHE_DIR=cache)
     here = os.path.dirname(os.path.abspath(__file__))
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [here, env.get("PYTHONPATH", "")]))
-    out = subprocess.run([sys.executable, "-c", _CHILD.format(name=name)], env=env,
+    out = subprocess.run([sys.executable, "-c", script.format(name=name)], env=env,
                          capture_output=True, text=True, check=True)  # fmt: skip
-    return float(out.stdout.split()[-1])
+    return [float(x) for x in out.stdout.split()]
+
+
+def compile_times(name):
+    """``{what: seconds}`` of the kernel's first compilation and later loads (new processes)."""
+    got = {}
+    with tempfile.TemporaryDirectory() as cache:
+        _, start, got["compile (blocking)"] = fresh_process(_CHILD, name, cache)
+        loads = [fresh_process(_CHILD, name, cache) for _ in range(2)]
+        got["numba start"] = [start] + [x[1] for x in loads]
+        got["load from the cache"] = [x[2] for x in loads]
+    with tempfile.TemporaryDirectory() as cache:
+        returned, ready, served = fresh_process(_CHILD_BEHIND, name, cache)
+    got["wait=False returns"], got["kernel ready after"] = returned, ready
+    got["model motions served meanwhile"] = served
+    return got
 
 
 def main(argv=None):
@@ -433,9 +513,7 @@ def main(argv=None):
             pylinkage_check(designs(name, 1))
         entry = report["linkages"][name] = {"plain numpy agrees to": worst, "outputs": count}
         if args.compile:
-            with tempfile.TemporaryDirectory() as cache:
-                entry["compile s"] = [fresh_process_seconds(name, cache) for _ in range(2)]
-                entry["compile s"] += [fresh_process_seconds(name, cache)]
+            entry["compile"] = compile_times(name)
         for n in args.designs:
             rows = paths(name, n, bool(version))
             got = {}
@@ -451,15 +529,22 @@ def main(argv=None):
     if args.json:
         print(json.dumps(report, indent=2, default=str))
         return
-    print(f"360 angles, one numba thread, median of {args.repeat} per run, {args.runs} runs "
+    print(f"360 angles, one thread, CPU time, median of {args.repeat} per run, {args.runs} runs "
           f"(load average {report['load average']:.1f}: a shared machine; ratios within a run)")
     for name, entry in report["linkages"].items():
         print(f"\n{name}: plain numpy = Linkage.motion to {entry['plain numpy agrees to']:.1e} "
               f"({entry['outputs']} outputs)")  # fmt: skip
-        if "compile s" in entry:
-            c = entry["compile s"]
-            print(f"  kernel in a fresh process, new cache: {c[0]:.2f} s; loaded from the cache: "
-                  f"{c[1]:.2f}, {c[2]:.2f} s (import, trace and load included)")  # fmt: skip
+        if "compile" in entry:
+            c = entry["compile"]
+            print(f"  kernel, new process and empty cache: compiled in "
+                  f"{c['compile (blocking)']:.2f} s (blocking); with wait=False the call "
+                  f"returns in {c['wait=False returns'] * 1e3:.1f} ms and the model serves "
+                  f"({c['model motions served meanwhile']:.0f} motions) until the kernel is "
+                  f"ready after {c['kernel ready after']:.2f} s")  # fmt: skip
+            loads = ", ".join(f"{x:.3f}" for x in c["load from the cache"])
+            starts = ", ".join(f"{x:.2f}" for x in c["numba start"])
+            print(f"  kernel, new process, from the cache: {loads} s after numba's start "
+                  f"({starts} s: its import and set-up, once per process)")
         for n in args.designs:
             got = entry[n]
             base = got["Linkage.motion"]
@@ -468,6 +553,40 @@ def main(argv=None):
                 ratio = " ".join(f"{b / t:6.2f}" for b, t in zip(base, ts))
                 times = " ".join(f"{t * 1e3:9.3f}" for t in ts)
                 print(f"    {label:38s} ms {times}   speed vs Linkage.motion x {ratio}")
+            for what, (slow, fast) in GOALS.items():
+                if slow in got and fast in got:
+                    ratio = " ".join(f"{a / b:6.2f}" for a, b in zip(got[slow], got[fast]))
+                    print(f"    {what:64s} x {ratio}")
+
+
+#: the ratios the paths are judged by (issue 31): ``{what: (row, row)}``, the first row's time
+#: over the second's
+GOALS = {
+    "Linkage.motion faster than plain numpy, every output (goal >= 1)": (
+        "plain numpy, every output",
+        "Linkage.motion",
+    ),
+    "Linkage.motion faster than pylinkage's kinematics (goal >= 1)": (
+        "pylinkage step_fast_with_kinematics",
+        "Linkage.motion",
+    ),
+    "the kernel's time via linkage_batch / raw (goal <= 2)": (
+        "kernel via linkage_batch",
+        "kernel raw",
+    ),
+    "kernel raw faster than pylinkage's kinematics (goal >= 30)": (
+        "pylinkage step_fast_with_kinematics",
+        "kernel raw",
+    ),
+    "kernel via linkage_batch faster than pylinkage's kinematics": (
+        "pylinkage step_fast_with_kinematics",
+        "kernel via linkage_batch",
+    ),
+    "kernel raw faster than plain numpy, positions (goal >= 1)": (
+        "plain numpy, positions",
+        "kernel raw",
+    ),
+}
 
 
 if __name__ == "__main__":
