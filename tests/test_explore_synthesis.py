@@ -6,6 +6,7 @@ design, and a linkage file of more than 16 dimensions opened after the page load
 """
 
 import math
+import re
 import time
 
 import numpy as np
@@ -123,12 +124,14 @@ def test_the_page_object_clicks_targets_and_poses_and_loads_solutions(page, path
     assert len(syn.src_points.data["x"]) == 6  # the default points on the canvas
     syn.points_input.value = ""
     syn.click(10.0, 20.0)
-    syn.click(30.0, 40.0)
+    syn.click(30.0004, 40.0)  # to a thousandth of the canvas's size (here 0.1 mm)
     assert syn.points_input.value == "10, 20\n30, 40"
     assert syn.src_points.data["x"] == [10.0, 30.0] and syn.src_points.data["label"] == ["1", "2"]
     syn.start_path()  # two points: refused with the reason, no worker started
     assert syn._proc is None and "3 or more target points, got 2" in syn.path_msg.object
-    syn.tasks = type("T", (), {"active": 2})()  # the motion generation's sub-tab shown
+    page.view()
+    syn.tasks.active = 0  # the motion generation's sub-tab: poses on the canvas, no points
+    assert syn.src_points.data["x"] == [] and syn.fig.title.text.startswith("click to add a pose")
     syn.pose_angle.value = "45"
     n = len(page.poses_input.value.splitlines())
     syn.click(-5.0, 7.5)
@@ -139,6 +142,7 @@ def test_the_page_object_clicks_targets_and_poses_and_loads_solutions(page, path
     assert "angle of a clicked pose, deg: 'north' is not a number" in page.synth_msg.object
     # a finished search: ranked in the table, the best previewed, loaded as the page's design
     job, res, _ = path_result
+    syn.tasks.active = 1
     syn.show_path(res, job.targets)
     assert syn.path_table.object.count("<tr>") == len(res.solutions) + 1
     assert "four-bars through the 6 points" in syn.path_msg.object
@@ -149,6 +153,9 @@ def test_the_page_object_clicks_targets_and_poses_and_loads_solutions(page, path
     assert page.design is not None and page.trace_select.value == ["P"]
     assert page.src_targets.data["x"] == pytest.approx((job.targets[:, 0] * 1e3).tolist())
     # function generation: the error curve, the design, loaded
+    syn.tasks.active = 2
+    assert syn.src_meta.data["json"][0] == '{"n": 0, "links": [], "pins": []}'  # none yet
+
     def generate():
         syn.start_function()
         t0 = time.time()
@@ -176,3 +183,247 @@ def test_the_page_object_clicks_targets_and_poses_and_loads_solutions(page, path
     syn.fn_x1.value = "one"
     syn.start_function()
     assert "x to: 'one' is not a number" in syn.fn_msg.object
+
+
+# ------------------------------------------------------------------------------ in a browser
+# (the page as a user sees it; Chromium and the server started once for these tests)
+from test_explore_visible import _children, _open, _select, browser, server  # noqa: E402, F401
+
+CANVAS = """([x, y]) => { const d = Bokeh.documents[0], f = d.get_model_by_name('synth-canvas');
+  const v = Bokeh.index.find_one(f), r = v.canvas_view.el.getBoundingClientRect();
+  return [r.left + v.frame.x_scale.compute(x), r.top + v.frame.y_scale.compute(y)]; }"""
+# the largest distance (display units) from a target to the path P takes in the browser
+GAP = """() => { const d = Bokeh.documents[0];
+  const F = d.get_model_by_name('frames').data, T = d.get_model_by_name('targets').data_source.data;
+  let worst = 0;
+  for (let i = 0; i < T.x.length; i++) {
+    let best = Infinity;
+    for (let k = 0; k < F['x:P'].length; k++)
+      best = Math.min(best, Math.hypot(F['x:P'][k] - T.x[i], F['y:P'][k] - T.y[i]));
+    worst = Math.max(worst, best);
+  }
+  return [T.x.length, worst]; }"""
+
+
+def _menu_shows(page, text, timeout=120.0):
+    """Wait until the mechanism menu shows ``text``; return what it shows."""
+    menu = page.get_by_label("Mechanism", exact=True)
+    t0, shown = time.time(), None
+    while time.time() - t0 < timeout:
+        shown = menu.evaluate("e => e.options[e.selectedIndex].text")
+        if shown == text:
+            break
+        page.wait_for_timeout(200)
+    return shown
+
+
+def _data(page, name, col):
+    return page.evaluate(
+        "([n, c]) => Array.from(Bokeh.documents[0].get_model_by_name(n).data[c] || [])",
+        [name, col],
+    )
+
+
+@pytest.mark.browser
+@pytest.mark.slow
+def test_in_the_browser_clicked_points_ranked_path_generators_previewed_and_one_loaded(
+    browser, server  # noqa: F811 - the fixtures imported above
+):
+    from playwright.sync_api import expect
+
+    page = _open(browser, server)
+    page.set_default_timeout(120_000)  # a new mechanism on a loaded machine: tens of s
+    try:
+        page.get_by_text("Synthesis", exact=True).click()
+        page.get_by_text("Path (points)", exact=True).click()
+        points = page.get_by_label("Target points of the coupler point, one a line: x, y (mm)")
+        expect(points).to_have_value(sm.DEFAULT_POINTS)
+        page.wait_for_timeout(500)
+        assert len(_data(page, "synth-points", "x")) == 6  # drawn on the canvas
+        # a click on the canvas at (0, 100) mm adds a point there, drawn as the 7th
+        page.mouse.click(*page.evaluate(CANVAS, [0, 100]))
+        page.wait_for_function(
+            "() => Bokeh.documents[0].get_model_by_name('synth-points').data.x.length === 7",
+            timeout=20_000,
+        )
+        x, y = (float(v) for v in points.input_value().splitlines()[-1].split(","))
+        assert (x, y) == (pytest.approx(0, abs=0.5), pytest.approx(100, abs=0.5))
+        # many starts, then Cancel: the search's process ends, no zombie behind it
+        page.get_by_label("Path starts").fill("200")
+        page.get_by_role("button", name="Find path generators").click()
+        page.locator("#path-state").get_by_text("searching").wait_for(timeout=20_000)
+        page.get_by_role("button", name="Cancel the search").click()
+        page.locator("#path-state").get_by_text("cancelled").wait_for(timeout=20_000)
+        page.wait_for_timeout(500)
+        assert not [c for c in _children(server["pid"]) if c[1].startswith("Z")]
+        # the six points on a crank-rocker's coupler curve, 3 starts: found and ranked
+        points.fill(sm.DEFAULT_POINTS)
+        page.get_by_label("Path starts").fill("3")
+        page.get_by_label("Path starts").press("Enter")
+        page.wait_for_timeout(500)
+        page.get_by_role("button", name="Find path generators").click()
+        page.locator("#path-table").wait_for(timeout=180_000)
+        state = page.locator("#path-state").inner_text()
+        assert "four-bars through the 6 points" in state, state
+        rows = page.locator("#path-table tr")
+        assert rows.count() >= 2
+        first = rows.nth(1).locator("td").all_inner_texts()
+        assert first[0] == "1" and float(first[1]) < 1e-3  # largest distance, mm
+        assert float(first[3]) >= 30.0 - 1e-6  # the transmission angle asked for
+        # the preview: the four-bar moves (Play) and its P's curve passes the points
+        page.wait_for_function(
+            "() => Bokeh.documents[0].get_model_by_name('synth-curve').data.x.length > 100",
+            timeout=20_000,
+        )
+        before = _data(page, "synth-links", "xs")
+        page.get_by_role("button", name="Play preview").click()
+        page.wait_for_timeout(600)
+        assert _data(page, "synth-links", "xs") != before
+        page.get_by_role("button", name="Pause preview").click()
+        # loaded: the page's mechanism, drawn over the targets its P passes through
+        page.get_by_role("button", name="Load the path generator").click()
+        assert _menu_shows(page, "Path generation: solution 1") == "Path generation: solution 1"
+        page.wait_for_function(
+            "() => Bokeh.documents[0].get_model_by_name('targets').data_source.data.x.length"
+            " === 6",
+            timeout=30_000,
+        )
+        page.wait_for_timeout(800)
+        n, gap = page.evaluate(GAP)
+        assert n == 6 and gap < 3.0  # mm: within the spacing of the 180 frames sent
+        expect(page.get_by_label("O1A, mm", exact=True)).to_be_visible()
+    finally:
+        page.close()
+
+
+@pytest.mark.browser
+@pytest.mark.slow
+def test_in_the_browser_a_function_generator_and_clicked_poses(
+    browser, server  # noqa: F811
+):
+    from playwright.sync_api import expect
+
+    page = _open(browser, server)
+    page.set_default_timeout(120_000)  # a new mechanism on a loaded machine: tens of s
+    try:
+        page.get_by_text("Synthesis", exact=True).click()
+        page.get_by_text("Function (y = f(x))", exact=True).click()
+        page.get_by_role("button", name="Generate the function").click()
+        page.locator("#function-design").wait_for(timeout=60_000)
+        ref = ms.function_generation(
+            "log10(x)", x=(1, 10), input_range=ms.deg(60), output_range=ms.deg(90), ground=0.1,
+            require_crank=True,
+        )  # fmt: skip
+        shown = float(page.locator("#function-max-error").inner_text())
+        assert shown == pytest.approx(math.degrees(ref.max_error), rel=1e-3)
+        err = _data(page, "function-error-curve", "y")
+        assert len(err) == 401
+        assert max(abs(v) for v in err) == pytest.approx(math.degrees(ref.max_error), rel=1e-6)
+        assert "crank <b>" in page.locator("#function-design").inner_html()
+        # a click on the function's tab places nothing; on the motion's it places a pose
+        page.get_by_text("Motion (poses)", exact=True).click()
+        page.get_by_label("Angle of a clicked pose, deg").fill("30")
+        page.get_by_label("Angle of a clicked pose, deg").press("Enter")
+        page.wait_for_timeout(500)
+        poses = page.get_by_label(
+            "Target poses of the coupler, one a line: x, y (mm), angle (deg)", exact=True
+        )
+        n = len(poses.input_value().splitlines())
+        page.mouse.click(*page.evaluate(CANVAS, [0, 100]))
+        page.wait_for_function(
+            f"() => Bokeh.documents[0].get_model_by_name('synth-poses').data.x.length === {n + 1}",
+            timeout=20_000,
+        )
+        expect(poses).to_have_value(re.compile(r", 30$"))  # the new line, at 30 deg
+        x, y, a = (float(v) for v in poses.input_value().splitlines()[-1].split(","))
+        assert (x, y, a) == (pytest.approx(0, abs=1), pytest.approx(100, abs=1), 30.0)
+        # back to the function generator, loaded into the page
+        page.get_by_text("Function (y = f(x))", exact=True).click()
+        page.get_by_role("button", name="Load the function generator").click()
+        title = "Function generation: y = log10(x)"
+        assert _menu_shows(page, title) == title
+        expect(page.get_by_label("O1A, mm", exact=True)).to_have_value(
+            f"{ref.design.crank * 1e3:.6g}", timeout=30_000
+        )
+    finally:
+        page.close()
+
+
+BIG = """[linkage]
+name = "eight-link"
+output = "C"
+
+[ground]
+O = [0, 0]
+D = ["120 mm", "50 mm"]
+E = ["200 mm", "150 mm"]
+
+[[group]]
+type = "crank"
+point = "A"
+about = "O"
+length = "30 mm"
+
+[[group]]
+type = "rrr"
+point = "B"
+first = ["A", "120 mm"]
+second = ["D", "80 mm"]
+
+[[group]]
+type = "attach"
+point = "K"
+on = ["D", "B"]
+along = "-50 mm"
+
+[[group]]
+type = "rrp"
+point = "N"
+rod = ["K", "100 mm"]
+guide = { through = ["120 mm", 0], angle = "57 deg" }
+
+[[group]]
+type = "rrr"
+point = "C"
+first = ["B", "100 mm"]
+second = ["E", "123 mm"]
+"""
+
+
+@pytest.mark.browser
+@pytest.mark.slow
+def test_in_the_browser_a_file_of_18_dimensions_opened_later_shows_every_row(
+    browser, server, tmp_path  # noqa: F811
+):
+    from playwright.sync_api import expect
+
+    from mechsynth.explore.app import MIN_ROWS
+    from mechsynth.explore.model import load_file
+
+    path = tmp_path / "eight_link.toml"
+    path.write_text(BIG)
+    dims = load_file(path, "mm-deg").kind.dims
+    assert len(dims) == 18 > MIN_ROWS
+    page = _open(browser, server)
+    page.set_default_timeout(120_000)  # a new mechanism on a loaded machine: tens of s
+    try:
+        page.locator(".upload input[type=file]").set_input_files(str(path))
+        # the rows beyond the ones made with the page: shown, labelled, with the file's values
+        expect(page.get_by_label("EC, mm", exact=True)).to_have_value("123", timeout=60_000)
+        expect(page.get_by_label("BC, mm", exact=True)).to_have_value("100", timeout=10_000)
+        for d in dims:
+            unit = "deg" if d.unit == "rad" else "mm"
+            expect(page.get_by_label(f"{d.name}, {unit}", exact=True)).to_be_visible()
+        # and a row past the 16th works: its field moves the design
+        before = page.evaluate("() => Bokeh.documents[0].get_model_by_name('meta').data.json[0]")
+        page.get_by_label("EC, mm", exact=True).fill("130")
+        page.get_by_label("EC, mm", exact=True).press("Enter")
+        page.wait_for_function(
+            "(b) => Bokeh.documents[0].get_model_by_name('meta').data.json[0] !== b",
+            arg=before, timeout=30_000,
+        )  # fmt: skip
+        _select(page, "Mechanism", "Four-bar")  # fewer dimensions: the rest hidden
+        expect(page.get_by_label("ground, mm", exact=True)).to_be_visible(timeout=30_000)
+        assert page.get_by_label("EC, mm", exact=True).count() == 0
+    finally:
+        page.close()

@@ -37,7 +37,10 @@ from .synthesis_model import (
     run_function,
 )
 
-__all__ = ["SynthesisTab"]
+__all__ = ["SynthesisTab", "TASKS"]
+
+#: the sub-tabs, in their order on the page
+TASKS = ("motion", "path", "function")
 
 # the preview's script: draws frame k of the solution sent in 'synth-frames' ('synth-meta'
 # gives its links), plays it, and fits the view to 'synth-view' with equal scales
@@ -303,13 +306,16 @@ class SynthesisTab:
             motion,
             sizing_mode="stretch_width",
         )
+        # motion generation first: it was the tab's content before the other two came
         self.tasks = pn.Tabs(
-            ("Path generation", path),
-            ("Function generation", function),
-            ("Motion generation", motion),
+            ("Motion (poses)", motion),
+            ("Path (points)", path),
+            ("Function (y = f(x))", function),
             dynamic=False,
             sizing_mode="stretch_width",
         )
+        self.tasks.param.watch(lambda e: self.app._later(self.task_changed), "active")
+        self._draw_inputs()
         from bokeh.layouts import column, row
 
         canvas = pn.pane.Bokeh(
@@ -331,6 +337,22 @@ class SynthesisTab:
         return f"{self.app.state.shown(0.1, 'm'):.6g}"
 
     # ------------------------------------------------------------------ canvas
+    def _task(self) -> str:
+        """The sub-tab shown: ``"motion"``, ``"path"`` or ``"function"`` (generation)."""
+        task = getattr(self, "tasks", None)
+        return TASKS[int(task.active)] if task is not None else "path"
+
+    def task_changed(self):
+        """Another sub-tab: the canvas shows its targets and its last solution."""
+        self._draw_inputs()
+        task = self._task()
+        if task == "path" and self._result is not None and self._result.solutions:
+            self.preview_path()
+        elif task == "function" and self._fg is not None:
+            self.show_function(self._fg)
+        else:
+            self.clear_preview()
+
     def _on_tap(self, event):
         self.app._later(self.click, float(event.x), float(event.y))
 
@@ -338,11 +360,14 @@ class SynthesisTab:
         """A click on the canvas at ``(x, y)`` (display length unit): a target point when the
         path generation is shown, a pose (at the angle field's value) when the motion
         generation is; nothing on the function generation."""
-        task = getattr(self, "tasks", None)
-        active = task.active if task is not None else 0
-        if active == 0:
+        active = self._task()
+        if self._fitted is not None:  # to a thousandth of the canvas's size, not to a pixel
+            x0, x1, y0, y1 = self._fitted
+            step = 10.0 ** math.floor(math.log10(max(x1 - x0, y1 - y0, 1e-9) / 1000))
+            x, y = round(x / step) * step, round(y / step) * step
+        if active == "path":
             self.points_input.value = _append(self.points_input.value, f"{x:.6g}, {y:.6g}")
-        elif active == 2:
+        elif active == "motion":
             try:
                 angle = parse_number(self.pose_angle.value, "angle of a clicked pose, deg")
             except MechanismError as exc:
@@ -355,12 +380,18 @@ class SynthesisTab:
     def _draw_inputs(self):
         """The typed or clicked targets and poses on the canvas (lines that do not read are
         left out here; the search names them)."""
-        pts = _rows(self.points_input.value, 2)
+        task = self._task()
+        pts = _rows(self.points_input.value, 2) if task == "path" else []
+        self.fig.title.text = {
+            "path": "click to add a target point",
+            "function": "the function generator over its input range",
+            "motion": "click to add a pose (at the angle set below)",
+        }[task]
         self.src_points.data = dict(
             x=[p[0] for p in pts], y=[p[1] for p in pts],
             label=[str(i) for i in range(1, len(pts) + 1)],
         )  # fmt: skip
-        poses = _rows(self.app.poses_input.value, 3)
+        poses = _rows(self.app.poses_input.value, 3) if task == "motion" else []
         ext = _extent(pts + [p[:2] for p in poses])
         r = 0.06 * max(ext[1] - ext[0], ext[3] - ext[2]) if ext else 0.0
         self.src_poses.data = dict(
@@ -372,6 +403,11 @@ class SynthesisTab:
         self.fig.xaxis.axis_label = f"x, {unit}"
         self.fig.yaxis.axis_label = f"y, {unit}"
         if ext and not _inside(ext, self._fitted):
+            fitted = self._fitted
+            if fitted is not None and _size(ext) < 0.2 * _size(fitted):
+                # a point clicked or typed just outside: the view grows, it does not jump
+                ext = (min(ext[0], fitted[0]), max(ext[1], fitted[1]),
+                       min(ext[2], fitted[2]), max(ext[3], fitted[3]))  # fmt: skip
             self._fit(ext)
 
     def _fit(self, ext):
@@ -572,12 +608,13 @@ class SynthesisTab:
         if sol is None or app._busy("load a solution"):
             return
         st = path_state(sol, rank, app.units_select.value)
-        app._load_state(st, None)
-        # the targets on the drawing (points: no angle)
-        app._targets = np.column_stack([self._targets, np.full(len(self._targets), np.nan)])
-        app._draw_targets()
-        if hasattr(app, "tabs"):
-            app.tabs.active = 0
+        with _held():
+            app._load_state(st, None)
+            # the targets on the drawing (points: no angle)
+            app._targets = np.column_stack([self._targets, np.full(len(self._targets), np.nan)])
+            app._draw_targets()
+            if hasattr(app, "tabs"):
+                app.tabs.active = 0
 
     # ------------------------------------------------------------------ function generation
     def function_job(self) -> FunctionJob:
@@ -671,9 +708,10 @@ class SynthesisTab:
         except MechanismError as exc:
             self.fn_msg.object = _bad(exc, "function-state")
             return
-        app._load_state(st, None)
-        if hasattr(app, "tabs"):
-            app.tabs.active = 0
+        with _held():
+            app._load_state(st, None)
+            if hasattr(app, "tabs"):
+                app.tabs.active = 0
 
     # ------------------------------------------------------------------ units
     def units_changed(self):
@@ -686,6 +724,20 @@ class SynthesisTab:
 
 
 # ------------------------------------------------------------------------------ helpers
+def _held():
+    """The page's changes sent to the browser as one message when the block ends (a new
+    mechanism changes hundreds of widget properties; one by one, the browser lays the page
+    out again after each)."""
+    import contextlib
+
+    import panel as pn
+
+    doc = pn.state.curdoc
+    if doc is None or getattr(doc, "session_context", None) is None:
+        return contextlib.nullcontext()
+    return pn.io.hold(doc)
+
+
 def _append(text: str | None, line: str) -> str:
     text = (text or "").rstrip("\n")
     return f"{text}\n{line}" if text else line
@@ -715,6 +767,10 @@ def _extent(points) -> tuple[float, float, float, float] | None:
     a = np.asarray(points, float)[:, :2]
     return (float(a[:, 0].min()), float(a[:, 0].max()), float(a[:, 1].min()),
             float(a[:, 1].max()))  # fmt: skip
+
+
+def _size(ext) -> float:
+    return max(ext[1] - ext[0], ext[3] - ext[2])
 
 
 def _inside(ext, fitted) -> bool:
