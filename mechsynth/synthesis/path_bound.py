@@ -267,16 +267,21 @@ def _least_spread(lo, hi):
     return np.min(np.sum(d * d, axis=2), axis=1)
 
 
-def _box_bounds(lo, hi, sigma, turns, targets, linear=True):
+def _box_bounds(lo, hi, sigma, turns, targets, linear=True, split=False):
     """Each box's lower bound: the larger of the rectangles' (first order) and, with
-    ``linear``, the linear model's (second order, :mod:`.path_bound_linear`)."""
+    ``linear``, the linear model's (second order, :mod:`.path_bound_linear`); with ``split``
+    also where to split each box (the coordinate of the largest share of the remainder)."""
     qlo, qhi, ok = enclosures(lo, hi, sigma, turns, targets)
     lb = _least_spread(qlo[..., 0], qhi[..., 0]) + _least_spread(qlo[..., 1], qhi[..., 1])
+    where = np.argmax(hi - lo, axis=1)
     if linear and lb.size:
         from .path_bound_linear import linear_bound
 
-        lb = np.maximum(lb, linear_bound(lo, hi, sigma, turns, targets))
-    return np.where(ok, lb, np.inf)
+        lin, share = linear_bound(lo, hi, sigma, turns, targets, split=True)
+        lb = np.maximum(lb, lin)
+        where = np.argmax(share, axis=1)
+    lb = np.where(ok, lb, np.inf)
+    return (lb, where) if split else lb
 
 
 def relaxed_error(x, sigma, turns, targets):
@@ -480,7 +485,7 @@ def path_bound(
     lo = np.repeat(rlo[None], len(sig), axis=0)
     hi = np.repeat(rhi[None], len(sig), axis=0)
     sg = np.array(sig)
-    lb = _box_bounds(lo, hi, sg, turns, tn)
+    lb, cut = _box_bounds(lo, hi, sg, turns, tn, split=True)
     ub_given = np.inf if best is None else best / scale**2
     ub, inc = ub_given, None
     boxes, floor = len(sig), np.inf  # floor: least bound of the boxes dropped
@@ -488,12 +493,12 @@ def path_bound(
     stop = "the gap closed"
     while True:
         keep = np.isfinite(lb)
-        lo, hi, sg, lb = lo[keep], hi[keep], sg[keep], lb[keep]
+        lo, hi, sg, lb, cut = lo[keep], hi[keep], sg[keep], lb[keep], cut[keep]
         target = ub - max(rtol * ub, a_tol)
         drop = lb >= target
         if np.any(drop):
             floor = min(floor, float(lb[drop].min()))
-            lo, hi, sg, lb = lo[~drop], hi[~drop], sg[~drop], lb[~drop]
+            lo, hi, sg, lb, cut = lo[~drop], hi[~drop], sg[~drop], lb[~drop], cut[~drop]
         lower = min(floor, float(lb.min(initial=np.inf)), ub)
         history.append((boxes, lower * scale**2))
         if lb.size == 0:
@@ -509,7 +514,7 @@ def path_bound(
         rest = np.ones(lb.size, dtype=bool)
         rest[pick] = False
         plo, phi_, psg = lo[pick], hi[pick], sg[pick]
-        j = np.argmax(phi_ - plo, axis=1)
+        j = cut[pick]
         mid = 0.5 * (plo[np.arange(k), j] + phi_[np.arange(k), j])
         alo, ahi = plo.copy(), phi_.copy()
         ahi[np.arange(k), j] = mid
@@ -520,7 +525,8 @@ def path_bound(
         ok = _length_prune(clo, chi, cn, gn)
         clo, chi, csg = clo[ok], chi[ok], csg[ok]
         # a child lies in its parent: the parent's bound holds for it too
-        clb = np.maximum(_box_bounds(clo, chi, csg, turns, tn), np.tile(lb[pick], 2)[ok])
+        clb, ccut = _box_bounds(clo, chi, csg, turns, tn, split=True)
+        clb = np.maximum(clb, np.tile(lb[pick], 2)[ok])
         x = 0.5 * (clo + chi)
         err, m = relaxed_error(x, csg, turns, tn)
         # a centre counts as an upper bound only inside the problem's length bounds
@@ -535,6 +541,7 @@ def path_bound(
         hi = np.vstack([hi[rest], chi])
         sg = np.concatenate([sg[rest], csg])
         lb = np.concatenate([lb[rest], clb])
+        cut = np.concatenate([cut[rest], ccut])
     lower = max(0.0, lower) * scale**2
     relaxed = ub * scale**2  # the tree's best centre (or the design given)
     best_v = relaxed if best is None else float(best)

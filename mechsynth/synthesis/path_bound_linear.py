@@ -140,11 +140,15 @@ def jacobian_enclosure(lo, hi, sigma, turns, targets):
     return Jlo, Jhi, ok & ~bad
 
 
-def linear_bound(lo, hi, sigma, turns, targets, sweeps: int = 4):
+def linear_bound(lo, hi, sigma, turns, targets, sweeps: int = 4, split: bool = False):
     """A lower bound ``(K,)`` on the error (normalized units) of every design in each box by the
-    linear model and its remainder (see the module's text); 0 where none is found."""
+    linear model and its remainder (see the module's text); 0 where none is found. With
+    ``split``, also each coordinate's share ``(K, 8)`` of the remainder (``sum E_ik rad(J)_ikj
+    h_j``; the half-widths ``h`` where the box has no linear bound): the box is best split
+    where it is largest."""
     with np.errstate(all="ignore"):
-        return _linear_bound(lo, hi, sigma, turns, targets, sweeps)
+        out, share = _linear_bound(lo, hi, sigma, turns, targets, sweeps)
+    return (out, share) if split else out
 
 
 def _linear_bound(lo, hi, sigma, turns, targets, sweeps):
@@ -185,7 +189,9 @@ def _linear_bound(lo, hi, sigma, turns, targets, sweeps):
     fw = f + np.sum(np.minimum(grad * (-h - delta), grad * (h - delta)), axis=1)
     root = np.sqrt(np.maximum(fw, 0.0)) - np.sqrt(np.sum(E * E, axis=(1, 2)))
     out = np.where(ok & (root > 0), root * root, 0.0)
-    return np.where(np.isfinite(out), out, 0.0)
+    share = np.einsum("kia,kiaj,kj->kj", E, 0.5 * (Jhi - Jlo), h)
+    share = np.where(ok[:, None] & np.all(np.isfinite(share), axis=1, keepdims=True), share, h)
+    return np.where(np.isfinite(out), out, 0.0), share
 
 
 def _q_at(x, sigma, turns, targets):

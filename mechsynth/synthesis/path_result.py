@@ -243,7 +243,7 @@ class PathResult:
         for c in getattr(b, "certificate", ()):
             lines.append(f"certified: {c}")
         if self.bound is not None:
-            lines.append("lower bound: " + self.bound.summary())
+            lines.append(self.bound.summary())
         return "\n".join(lines)
 
     def as_dict(self) -> dict:
