@@ -325,7 +325,29 @@ def test_command_figures(checked, tmp_path):
         )
         == 0
     )  # a long design name: the title was cut at the top
+    assert (
+        main(
+            ["animate", str(EXAMPLES / "design_six_link.toml"), "--out", str(tmp_path)]
+            + ["--frames", "4", "--dpi", "30"]
+        )
+        == 0
+    )  # two traced paths: told apart by dash
+    assert (
+        main(
+            ["optimize", str(EXAMPLES / "optimize_cylinder_rocker.toml"), "--starts", "2"]
+            + ["--out", str(tmp_path / "linear")]
+        )
+        == 0
+    )  # a driving slider: a long title
+    assert (
+        main(
+            ["chart", "slider-crank", "--set", "n=12", "--units", "oilfield", "--quiet"]
+            + ["--out", str(tmp_path / "oilfield")]
+        )
+        == 0
+    )  # accelerations of 10,000 in/s^2 and more: in 1000 in/s^2
     assert "optimum.png" in checked and "design_dwell.png" in checked
-    assert "design_beam_pump.png" in checked
-    assert len(checked) >= 4
+    assert "design_beam_pump.png" in checked and "design_six_link.png" in checked
+    assert "slider_crank_chart.png" in checked
+    assert len(checked) >= 7
     _assert_clean(checked, [])

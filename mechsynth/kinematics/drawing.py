@@ -32,6 +32,10 @@ LINK_COLOUR = PALETTE[4]
 TRACE_COLOURS = (PALETTE[5], PALETTE[3], PALETTE[6], PALETTE[1], PALETTE[2])
 
 
+#: dash patterns of traced paths (the links are solid)
+_TRACE_STYLES = ("--", ":", "-.", (0, (5, 1, 1, 1, 1, 1)))
+
+
 def _parts(text: str) -> list[str]:
     """``text`` split at ``", "`` outside parentheses (``"a, b (c, d)"``: ``a``, ``b (c, d)``)."""
     parts, depth, start = [], 0, 0
@@ -159,7 +163,7 @@ class _Scene:
             path = ax.plot(
                 np.append(x, x[:1]) / self.L,
                 np.append(y, y[:1]) / self.L,
-                ls="--",
+                ls=_TRACE_STYLES[i % len(_TRACE_STYLES)],  # told apart by dash, not colour alone
                 lw=1.1,
                 color=c,
                 zorder=1.5,

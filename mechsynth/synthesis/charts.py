@@ -227,8 +227,11 @@ class Chart:
 
         unit = self.units.get(label, "")
         factor, shown = display.current().factor(unit), display.current().unit(unit)
-        v = self.values[label]
-        return v / factor, shown, lambda x: np.asarray(x) / factor
+        v = self.values[label] / factor
+        if shown and display.thousands(v, shown)[1] != shown:  # labels of at most four digits
+            factor, shown = factor * 1e3, display.thousands(v, shown)[1]
+            v = v / 1e3
+        return v, shown, lambda x: np.asarray(x) / factor
 
     def plot(
         self,

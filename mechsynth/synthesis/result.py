@@ -478,10 +478,9 @@ class Result:
             else:
                 top = make_title(described, "", self.speed)
             marks = "inputs" if linear else "angles"
-            axes[0].set_title(
-                top + f"\n{head} (dashed, or \u25bc at an end: certified peak {marks})",
-                fontsize=9,
-            )
+            note = f"(dashed, or \u25bc at an end: certified peak {marks})"
+            sep = "\n" if len(head) + len(note) > 90 else " "
+            axes[0].set_title(f"{top}\n{head}{sep}{note}", fontsize=9)
         return fig
 
 
