@@ -8,7 +8,8 @@
 * :mod:`.analysis` — ``mechsynth pump analyze``: one unit from a TOML file and a card.
 * :mod:`.spatial_unit`, :mod:`.spatial_forces`, :mod:`.spatial_design` — the spatial
   double-crank drive of paper 002 (:class:`SpatialPumpingUnit`): 3-D kinematics, kinetostatics
-  with redundant constraints closed by the pitmans' elasticity, tolerances, counterbalance.
+  with redundant constraints closed by the pitmans' elasticity, tolerances, counterbalance;
+  :mod:`.spatial_drawing` — its 3-D animation (:func:`animate_drive`).
 * :mod:`.paper002` — paper 002's printed equations as residuals, and their errata.
 * :mod:`.rod_string` — a predicted dynamometer card from the wave equation of the rod string.
 
@@ -30,12 +31,14 @@ from .measures import PUMPING_MEASURES, peak_torque_factor, rod_clearance
 from .rod_string import RodString, wave_equation_card
 from .spatial_design import (
     CounterbalanceSizing,
+    limit_contour,
     size_counterbalance,
     split_curve,
     split_map,
     tolerance,
     tolerance_design_chart,
 )
+from .spatial_drawing import animate_drive
 from .spatial_forces import (
     SpatialForces,
     SpatialMasses,
@@ -86,6 +89,8 @@ __all__ = [
     "power_balance",
     "split_curve",
     "split_map",
+    "limit_contour",
+    "animate_drive",
     "tolerance",
     "tolerance_design_chart",
     "size_counterbalance",
