@@ -171,13 +171,17 @@ def drag_joint(state: State, point: str, xy, phi: float) -> dict[str, float]:
             gtol=1e-14, max_nfev=200,
         )  # fmt: skip
         x0 = fit.x
-    miss = float(np.hypot(*residual(x0))) * size
+    try:
+        there = _place(build, dict(values, **dict(zip(dims, x0))), point, phi)
+    except (MechanismError, ValueError, ZeroDivisionError) as exc:
+        raise MechanismError(f"cannot move {point} there: {exc}") from exc
+    miss = float(np.hypot(*(there - target)))
     if miss > 1e-6 * size and len(dims) >= 2:
         raise MechanismError(
             f"cannot move {point} there: its dimensions ({', '.join(dims)}) reach no closer "
             f"than {miss * 1e3:.3g} mm (it would cross to the other assembly branch)"
         )
-    if np.max(np.abs(_place(build, dict(values, **dict(zip(dims, x0))), point, phi) - here)) == 0:
+    if np.max(np.abs(there - here)) == 0:
         raise MechanismError(f"cannot move {point} there: its dimensions do not move it")
     out = dict(state.values)
     out.update({n: float(f"{float(x):.12g}") for n, x in zip(dims, x0)})
@@ -469,6 +473,10 @@ class Draft:
             elif t == "attach":
                 s["along"] = v(f"{p}_along", s["along"])
                 s["left"] = v(f"{p}_left", s["left"])
+            elif t == "rpr":
+                offset = v(f"{s['link']}_offset", s.get("offset", 0.0))
+                if offset or "offset" in s:
+                    s["offset"] = offset
             if t in ("rrp", "slider"):
                 g = s["guide"]
                 g["through"] = [

@@ -1,0 +1,513 @@
+"""The explorer's editing: moving joints dragged to new places, a linkage built by clicks, undo
+and redo, the design's state in the URL; the logic without a browser, the page object driven
+from Python, and (marked ``browser`` and ``slow``) what a user sees in headless Chromium."""
+
+import math
+import tomllib
+
+import numpy as np
+import pytest
+
+from mechsynth.errors import MechanismError
+from mechsynth.explore.editor import (
+    Draft,
+    drag_joint,
+    joint_dims,
+    state_from_query,
+    to_query,
+)
+from mechsynth.explore.history import History
+from mechsynth.explore.model import State
+
+
+def _at(state, values, point, phi):
+    """``point``'s place (m) at the input ``phi`` of the design of ``values``."""
+    st = State.of(state.kind)
+    st.values = dict(values)
+    x, y = st.design().sketch(np.array([phi])).points[point]
+    return np.array([float(np.ravel(x)[0]), float(np.ravel(y)[0])])
+
+
+# ------------------------------------------------------------------------------ dragging
+@pytest.mark.parametrize(
+    "key, point, dims",
+    [
+        ("impact", "A", ("OA", "phase")),
+        ("impact", "B", ("AB", "DB")),
+        ("impact", "K", ("K_along", "K_left")),
+        ("linkage", "B", ("AB", "DB")),
+        ("four-bar", "B", ("coupler", "rocker")),
+        ("slider-crank", "B", ("rod", "offset")),
+    ],
+)
+def test_a_dragged_joint_lands_where_it_is_dropped_changing_only_its_dimensions(key, point, dims):
+    st = State.default(key)
+    phi = float(st.design().turn(180)[25])
+    here = _at(st, st.values, point, phi)
+    size = max(abs(v) for d, v in st.values.items() if st.kind.dim(d).unit == "m")
+    target = here + 0.01 * size * np.array([1.0, 0.6])
+    assert joint_dims(st, point) == dims
+    new = drag_joint(st, point, target, phi)
+    assert {k for k in new if new[k] != st.values[k]} <= set(dims)
+    # the design of the new values puts the joint there (the whole design solved again)
+    assert np.hypot(*(_at(st, new, point, phi) - target)) < 1e-9 * size
+
+
+def test_drag_values_are_the_closed_forms():
+    """A crank pin's place gives the crank's length (the distance to its pivot) and its phase
+    (the pin's angle minus the crank angle); an RRR joint's its two links' lengths; an
+    attached point's its offsets along and to the left of its link's axis."""
+    st = State.default("linkage")  # the six-link of paper 001
+    phi = 0.7
+    target = np.array([0.01, 0.035])  # m
+    new = drag_joint(st, "A", target, phi)
+    assert new["OA"] == pytest.approx(math.hypot(*target), rel=1e-9)
+    assert new["phase"] == pytest.approx(math.atan2(target[1], target[0]) - phi, abs=1e-9)
+    a, d = _at(st, new, "A", phi), np.array([0.12, 0.05])
+    b = _at(st, new, "B", phi) + np.array([0.004, -0.002])
+    new2 = drag_joint(State.of(st.kind) if False else _with(st, new), "B", b, phi)
+    assert new2["AB"] == pytest.approx(np.hypot(*(b - a)), rel=1e-9)
+    assert new2["DB"] == pytest.approx(np.hypot(*(b - d)), rel=1e-9)
+    st2 = _with(st, new2)
+    bb = _at(st2, st2.values, "B", phi)
+    u = (bb - d) / np.hypot(*(bb - d))
+    k = d + 0.03 * u + 0.01 * np.array([-u[1], u[0]])
+    new3 = drag_joint(st2, "K", k, phi)
+    assert new3["K_along"] == pytest.approx(0.03, abs=1e-9)
+    assert new3["K_left"] == pytest.approx(0.01, abs=1e-9)
+
+
+def _with(st, values):
+    out = State.of(st.kind)
+    out.values = dict(values)
+    return out
+
+
+def test_a_slider_goes_to_the_nearest_place_on_its_guide():
+    st = State.default("impact")  # N on a guide at 90 deg through O, 130 mm to its left
+    phi = 1.0
+    here = _at(st, st.values, "N", phi)
+    new = drag_joint(st, "N", here + np.array([0.02, 0.01]), phi)
+    there = _at(st, new, "N", phi)
+    assert there[0] == pytest.approx(here[0], abs=1e-12)  # still on its vertical guide
+    assert there[1] == pytest.approx(here[1] + 0.01, abs=1e-9)
+    assert set(k for k in new if new[k] != st.values[k]) == {"KN"}
+
+
+def test_a_drag_that_cannot_be_reached_or_a_fixed_pivot_says_why():
+    st = State.default("linkage")
+    phi = 0.3
+    a, d, b = (_at(st, st.values, p, phi) for p in ("A", "D", "B"))
+    u = (d - a) / np.hypot(*(d - a))
+    mirror = a + 2 * ((b - a) @ u) * u - (b - a)  # B reflected across the line A-D
+    with pytest.raises(MechanismError, match="cannot move B there: .*other assembly branch"):
+        drag_joint(st, "B", mirror, phi)
+    with pytest.raises(MechanismError, match="O is a fixed pivot"):
+        joint_dims(st, "O")
+    with pytest.raises(MechanismError, match="C of the Dwell linkage .* is not a joint"):
+        joint_dims(State.default("dwell"), "C")
+    with pytest.raises(MechanismError, match="must be numbers"):
+        drag_joint(st, "A", (float("nan"), 0.0), phi)
+
+
+# ------------------------------------------------------------------------------ the draft
+def _four_bar_draft():
+    return (
+        Draft()
+        .ground(0.0, 0.0)
+        .ground(0.1, 0.0)
+        .crank("O1", 0.0, 0.03)
+        .rrr("A", "O2", 0.06, 0.08)
+        .attach("A", "B", 0.02, 0.09)
+    )
+
+
+def test_a_draft_built_by_clicks_puts_every_point_where_it_was_clicked():
+    d = _four_bar_draft()
+    lk, message = d.check()
+    assert message is None
+    assert lk.parameters["O1A"] == pytest.approx(0.03)
+    assert lk.parameters["phase"] == pytest.approx(math.pi / 2, abs=1e-5)  # 6 digits kept
+    assert lk.parameters["AB"] == pytest.approx(math.hypot(0.06, 0.05), rel=5e-6)  # 6 digits
+    assert lk.parameters["O2B"] == pytest.approx(math.hypot(0.04, 0.08), rel=5e-6)
+    sk = lk.sketch(np.array([0.0]))
+    for p, xy in {"A": (0, 0.03), "B": (0.06, 0.08), "C": (0.02, 0.09)}.items():
+        assert np.ravel(sk.points[p][0])[0] == pytest.approx(xy[0], abs=1e-6)
+        assert np.ravel(sk.points[p][1])[0] == pytest.approx(xy[1], abs=1e-6)
+    # the other side of A -> O2 is the other assembly branch
+    other = d.delete_last().delete_last().rrr("A", "O2", 0.06, -0.02)
+    from mechsynth.synthesis.linkage_file import linkage_from_data
+
+    lk2 = linkage_from_data(other.tables())
+    assert other.steps[-1]["branch"] == -1
+    assert np.ravel(lk2.sketch(np.array([0.0])).points["B"][1])[0] == pytest.approx(-0.02, abs=1e-6)
+
+
+def test_every_step_type_and_the_file_it_writes(tmp_path):
+    from mechsynth.synthesis.linkage_file import load_linkage
+
+    d = (
+        Draft()
+        .ground(0.0, 0.0)
+        .ground(0.3, 0.0)
+        .slider(0.0, 0.05, 0.0, 0.1)  # A, driven along +x over 100 mm
+        .rrr("A", "O2", 0.15, 0.15)  # B
+        .rrp("B", 0.3, 0.25, 0.0)  # C on a guide along x through (0.3, 0.25)
+        .rpr("O1", "B")
+    )
+    lk, message = d.check()
+    assert message is None, message
+    assert lk.driver == "slider" and lk.input_range == (0.0, 0.1)
+    sk = lk.sketch(np.array([0.0]))
+    for p, xy in {"A": (0, 0.05), "B": (0.15, 0.15), "C": (0.3, 0.25)}.items():
+        assert np.ravel(sk.points[p][0])[0] == pytest.approx(xy[0], abs=1e-6)
+        assert np.ravel(sk.points[p][1])[0] == pytest.approx(xy[1], abs=1e-6)
+    path = tmp_path / "built.toml"
+    path.write_text(d.toml())
+    again = load_linkage(path)
+    assert again.parameters == pytest.approx(lk.parameters)
+    assert tomllib.loads(d.toml())["group"][0]["type"] == "slider"
+
+
+def test_the_draft_follows_the_dimensions_changed_on_the_page():
+    d = (
+        Draft()
+        .ground(0.0, 0.0)
+        .ground(0.3, 0.0)
+        .crank("O1", 0.02, 0.0)
+        .rrr("A", "O2", 0.15, 0.15)
+        .rrp("B", 0.3, 0.25, 0.0)
+        .attach("A", "B", 0.05, 0.05)
+        .rpr("O1", "C")
+    )
+    lk, message = d.check()
+    assert message is None, message
+    changed = {k: v * 1.01 if v else 0.001 for k, v in lk.parameters.items()}
+    again = d.with_values(changed)
+    from mechsynth.synthesis.linkage_file import linkage_from_data
+
+    got = linkage_from_data(again.tables()).parameters
+    assert set(got) == set(changed)  # every dimension is found in the file by its name
+    for k, v in changed.items():
+        assert got[k] == pytest.approx(v, rel=1e-5)
+
+
+def test_a_draft_says_what_is_missing_or_why_it_does_not_assemble():
+    d = Draft()
+    assert d.check() == (None, "click on the drawing to add a ground point")
+    d = d.ground(0.0, 0.0).ground(0.1, 0.0)
+    with pytest.raises(MechanismError, match="add the driver first"):
+        d.rrr("O1", "O2", 0.05, 0.05)
+    with pytest.raises(MechanismError, match="turns about a ground point .*got 'B'"):
+        d.crank("B", 0.0, 0.02)
+    d = d.crank("O1", 0.05, 0.0)
+    assert "add a group" in d.check()[1]
+    with pytest.raises(MechanismError, match="driver already"):
+        d.crank("O1", 0.0, 0.02)
+    # links too short to reach over the whole turn: the library's message
+    bad = d.rrr("A", "O2", 0.075, 0.0)
+    lk, message = bad.check()
+    assert lk is None and "RRR" in message and "cannot be assembled" in message
+    assert bad.delete_last() == d and Draft().delete_last() == Draft()
+
+
+# ------------------------------------------------------------------------------ history
+def test_history_merges_a_run_of_one_dimension_and_undoes_and_redoes():
+    h = History(limit=3)
+    assert h.undo() is None and h.redo() is None
+    h.record("start")
+    h.record("rod 1", key="rod", now=10.0)
+    h.record("rod 2", key="rod", now=10.5)  # the same drag: merged
+    h.record("rod 3", key="rod", now=12.0)  # later: a step of its own
+    assert h.undo() == "rod 2" and h.undo() == "start" and h.undo() is None
+    assert h.redo() == "rod 2" and h.redo() == "rod 3" and h.redo() is None
+    h.undo()
+    h.record("crank", key="crank", now=20.0)  # a new change: no redo left
+    assert not h.can_redo
+    for i in range(5):
+        h.record(i)
+    assert len(h._past) == 3  # the limit
+
+
+# ------------------------------------------------------------------------------ the URL
+def test_the_url_carries_a_built_in_mechanism_and_a_linkage():
+    st = State.default("four-bar", units="mm-deg")
+    st.values.update(crank=0.25, rocker=0.9)
+    st.speed = 12.5
+    back = state_from_query(_args(to_query(st)))
+    assert back.kind.key == "four-bar" and back.units == "mm-deg"
+    assert back.values == st.values and back.speed == 12.5
+    lk_state = State.of(_four_bar_draft().kind(), "si")
+    lk_state.values["O1A"] = 0.025
+    q = to_query(lk_state)
+    assert "mechanism=file" in q and len(q) < 1200
+    back = state_from_query(_args(q))
+    assert back.kind.title == lk_state.kind.title and back.values == lk_state.values
+    assert back.kind.file_data == lk_state.kind.file_data
+    impact = State.default("impact")
+    assert "mechanism=impact" in to_query(impact) and "linkage=" not in to_query(impact)
+    assert state_from_query({}) is None
+
+
+def _args(query):
+    from urllib.parse import parse_qs
+
+    return {k: [v.encode() for v in vs] for k, vs in parse_qs(query).items()}
+
+
+@pytest.mark.parametrize(
+    "query, message",
+    [
+        ("mechanism=pendulum", "mechanism must be one of"),
+        ("mechanism=four-bar&crank=abc", "crank must be a number, got 'abc'"),
+        ("mechanism=four-bar&crank=-1", "crank must be positive"),
+        ("mechanism=four-bar&speed=-3", "speed must not be negative"),
+        ("mechanism=four-bar&units=furlongs", "units must be one of"),
+        ("mechanism=file&linkage=@@@", "not a packed linkage"),
+        ("mechanism=slider-crank&rod=inf", "rod must be a finite number"),
+    ],
+)
+def test_a_bad_url_says_which_parameter(query, message):
+    with pytest.raises(MechanismError, match=message):
+        state_from_query(_args(query))
+
+
+# ------------------------------------------------------------------------------ the page object
+@pytest.fixture
+def page():
+    pytest.importorskip("panel")
+    from mechsynth.explore.app import Explorer
+
+    return Explorer(State.default("slider-crank", units="mm-deg"))
+
+
+def test_page_builds_a_linkage_by_clicks_and_undoes_each_step(page):
+    ed = page.editing
+    ed.new_linkage()
+    ed.click(0.0, 0.0)  # mm
+    ed.click(100.0, 0.0)
+    assert "O2 = [0.1, 0.0]" in ed.toml.object
+    ed.step.value = "crank"
+    ed._show_draft()
+    ed.p1.value = "O1"
+    ed.click(0.0, 30.0)
+    assert page.state.kind.key == "slider-crank"  # no linkage yet: the last one is drawn
+    ed.step.value = "rrr"
+    ed._show_draft()
+    ed.p1.value, ed.p2.value = "A", "O2"
+    ed.click(60.0, 80.0)
+    assert page.state.kind.title == "Linkage built in the page"
+    assert page.dim_fields["O2B"].value == "89.4427"  # mm: the clicked distance to O2
+    assert "the linkage assembles" in ed.message.object
+    assert page.kind_select.value == "__file__"
+    # a dimension changed on the page is in the file
+    page._on_field("O1A", "35")
+    assert "length = 0.035" in ed.toml.object
+    ed.undo()
+    assert page.dim_fields["O1A"].value == "30" and "length = 0.03\n" in ed.toml.object
+    ed.undo()  # the RRR group: the slider-crank is drawn again, the draft has 3 steps
+    assert page.state.kind.key == "slider-crank" and len(ed.draft.steps) == 3
+    assert page.kind_select.value != "__file__"
+    ed.redo()
+    assert page.state.kind.title == "Linkage built in the page"
+    ed.delete_last()
+    assert "add a group" in ed.message.object
+
+
+def test_page_drags_a_crank_pin_and_snaps_back_with_the_reason(page):
+    ed = page.editing
+
+    def drag(name, dx, dy=0.0):
+        from mechsynth.explore.animation import frame_glyphs
+
+        k = int(page.frame.value)
+        data = {k_: list(v) for k_, v in frame_glyphs(page.frame_cols, page.frame_meta, k)[
+            "joints"].items()}  # fmt: skip
+        i = data["name"].index(name)
+        data["x"][i] += dx
+        data["y"][i] += dy
+        page.src_joints.data = data
+
+    drag("A", 5.0)  # mm, at crank angle 0: the crank from 70 to 75 mm
+    assert page.state.values["crank"] == pytest.approx(0.075)
+    assert page.dim_fields["crank"].value == "75" and not page.design_msg.visible
+    drag("A", 200.0)  # a crank longer than the rod: back, with the library's reason
+    assert page.state.values["crank"] == pytest.approx(0.075)
+    assert page.design_msg.visible
+    assert "cannot move A there: " in page.design_msg.object
+    ed.undo()
+    assert page.dim_fields["crank"].value == "70"
+
+
+# ------------------------------------------------------------------------------ in the browser
+# the server and browser of the visible-page tests (one server for the module)
+from test_explore_visible import _open, _select, _shown_fits, browser, server  # noqa: E402, F401
+
+# a joint's place on the screen and in the drawing's units
+JOINT = """(name) => { const d = Bokeh.documents[0], f = d.get_model_by_name('drawing');
+  const v = Bokeh.index.find_one(f), G = d.get_model_by_name('joints').data_source.data;
+  const i = G.name.indexOf(name), r = v.canvas_view.el.getBoundingClientRect();
+  return [r.left + v.frame.x_scale.compute(G.x[i]), r.top + v.frame.y_scale.compute(G.y[i]),
+          G.x[i], G.y[i]]; }"""
+# a place of the drawing (its units) on the screen
+SCREEN_AT = """([x, y]) => { const d = Bokeh.documents[0], f = d.get_model_by_name('drawing');
+  const v = Bokeh.index.find_one(f), r = v.canvas_view.el.getBoundingClientRect();
+  return [r.left + v.frame.x_scale.compute(x), r.top + v.frame.y_scale.compute(y)]; }"""
+
+
+# the drawing's place on the screen and its ranges: a press lands where it is aimed only once
+# the page has stopped moving (a served change may re-lay it out after a position is read)
+PLACE = """() => { const f = Bokeh.documents[0].get_model_by_name('drawing');
+  const r = Bokeh.index.find_one(f).canvas_view.el.getBoundingClientRect();
+  return [r.left, r.top, f.x_range.start, f.x_range.end, f.y_range.start, f.y_range.end]; }"""
+
+
+def _still(page):
+    last = None
+    for _ in range(60):
+        now = page.evaluate(PLACE)
+        if now == last:
+            return
+        last = now
+        page.wait_for_timeout(400)
+
+
+def _drag_joint(page, name, dx, dy=0.0):
+    _still(page)
+    x, y, _, _ = page.evaluate(JOINT, name)
+    page.mouse.move(x, y)
+    page.mouse.down()
+    page.mouse.move(x + dx / 2, y + dy / 2, steps=4)
+    page.mouse.move(x + dx, y + dy, steps=4)
+    page.mouse.up()
+
+
+def _value(page, label):
+    return float(page.get_by_label(label, exact=True).input_value())
+
+
+@pytest.mark.browser
+@pytest.mark.slow
+def test_browser_a_dragged_crank_pin_moves_the_fields_or_snaps_back_saying_why(page_b):
+    from playwright.sync_api import expect
+
+    page = page_b
+    _select(page, "Mechanism", "Linkage (six-link of paper 001, or a TOML file)")
+    expect(page.get_by_label("OA, mm", exact=True)).to_have_value("30", timeout=60_000)
+    page.wait_for_timeout(1000)
+    _drag_joint(page, "A", 12, -8)  # pixels, at crank angle 0
+    expect(page.get_by_label("OA, mm", exact=True)).not_to_have_value("30", timeout=60_000)
+    page.wait_for_timeout(800)
+    _, _, ax, ay = page.evaluate(JOINT, "A")  # where the page draws A now (mm)
+    assert _value(page, "OA, mm") == pytest.approx(math.hypot(ax, ay), rel=1e-4)
+    assert _value(page, "phase, deg") == pytest.approx(math.degrees(math.atan2(ay, ax)), abs=0.01)
+    assert ay > 0.5  # dragged up: the phase is the pin's angle at crank angle 0
+    # the coupler joint B far away: its links cannot assemble; back, with the reason
+    before = page.evaluate(JOINT, "B")[2:]
+    _drag_joint(page, "B", 400, 0)
+    page.locator(".design-message").get_by_text("cannot move B there").wait_for(timeout=60_000)
+    page.wait_for_timeout(600)
+    assert page.evaluate(JOINT, "B")[2:] == pytest.approx(before, abs=1e-6)
+    assert _value(page, "AB, mm") == 120 and _value(page, "DB, mm") == 80
+    _shown_fits(page)
+
+
+@pytest.fixture
+def page_b(browser, server):  # noqa: F811
+    pg = _open(browser, server)
+    yield pg
+    pg.close()
+
+
+def _click_at(page, x, y):
+    _still(page)
+    sx, sy = page.evaluate(SCREEN_AT, [x, y])
+    page.mouse.click(sx, sy)
+    page.wait_for_timeout(600)
+
+
+@pytest.mark.browser
+@pytest.mark.slow
+def test_browser_a_linkage_built_by_clicks_is_drawn_its_file_downloaded_and_undone(page_b):
+    from playwright.sync_api import expect
+
+    from mechsynth.synthesis.linkage_file import load_linkage
+
+    page = page_b
+    menu = page.get_by_label("Mechanism", exact=True)
+    page.get_by_role("button", name="New linkage").click()
+    adds = page.get_by_label("A click on the drawing adds", exact=True)
+    adds.wait_for(timeout=60_000)
+    _click_at(page, 0, 0)  # mm
+    _click_at(page, 100, 0)
+    toml = page.locator("#editor-toml")
+    expect(toml).to_contain_text("O2 = [0.1, 0.0]", timeout=60_000)
+    adds.select_option(label="crank (on a ground point)")
+    expect(page.get_by_label("about (a ground point)", exact=True)).to_be_visible()
+    _click_at(page, 0, 30)
+    expect(page.locator("#editor-message")).to_contain_text("add a group", timeout=60_000)
+    adds.select_option(label="RRR group (two links)")
+    expect(page.get_by_label("first point", exact=True)).to_be_visible()
+    page.get_by_label("first point", exact=True).select_option("A")
+    page.get_by_label("second point", exact=True).select_option("O2")
+    _click_at(page, 60, 80)
+    expect(page.locator("#editor-message")).to_contain_text("the linkage assembles", timeout=60_000)
+    expect(page.get_by_label("O2B, mm", exact=True)).to_have_value("89.4427", timeout=60_000)
+    assert menu.evaluate("e => e.options[e.selectedIndex].text") == "Linkage built in the page"
+    page.wait_for_timeout(800)
+    _, _, bx, by = page.evaluate(JOINT, "B")  # at crank angle 0: where it was clicked
+    assert (bx, by) == (pytest.approx(60, abs=1e-3), pytest.approx(80, abs=1e-3))
+    _shown_fits(page)
+    with page.expect_download() as dl:
+        page.get_by_role("button", name="Linkage file (TOML)").click()
+    path = dl.value.path()
+    lk = load_linkage(path)
+    assert lk.parameters["O1A"] == pytest.approx(0.03) and lk.parameters["O2_x"] == 0.1
+    assert "[[group]]" in toml.inner_text()
+    # Ctrl+Z (outside a text field) takes the RRR group back: the slider-crank is drawn again
+    page.locator("#editor-toml").click()
+    page.keyboard.press("Control+z")
+    expect(page.get_by_label("crank, mm", exact=True)).to_have_value("50", timeout=60_000)
+    assert "Slider-crank" in menu.evaluate("e => e.options[e.selectedIndex].text")
+    page.get_by_role("button", name="Redo").click()
+    expect(page.get_by_label("O2B, mm", exact=True)).to_have_value("89.4427", timeout=60_000)
+    page.get_by_role("button", name="Delete the last element").click()
+    expect(page.locator("#editor-message")).to_contain_text("add a group", timeout=60_000)
+
+
+@pytest.mark.browser
+@pytest.mark.slow
+def test_browser_the_address_carries_the_design_and_a_reload_restores_it(browser, server):  # noqa: F811
+    from playwright.sync_api import expect
+
+    pg = browser.new_page(viewport={"width": 1280, "height": 800})
+    try:
+        pg.goto(
+            server["url"] + "?mechanism=four-bar&units=mm-deg&speed=0&crank=0.25&coupler=1.1"
+            "&rocker=0.9&ground=1"
+        )
+        pg.wait_for_selector("#stroke", timeout=60_000)
+        assert pg.get_by_label("crank, mm", exact=True).input_value() == "250"
+        assert pg.get_by_label("coupler, mm", exact=True).input_value() == "1100"
+        assert (
+            pg.get_by_label("Mechanism", exact=True).evaluate(
+                "e => e.options[e.selectedIndex].text"
+            )
+            == "Four-bar"
+        )
+        assert pg.get_by_label("Crank speed, rpm", exact=True).input_value() == "0"
+        box = pg.get_by_label("rocker, mm", exact=True)
+        box.fill("950")
+        box.press("Enter")
+        pg.wait_for_function("() => location.search.includes('rocker=0.95')", timeout=60_000)
+        pg.reload()
+        pg.wait_for_selector("#stroke", timeout=60_000)
+        assert pg.get_by_label("rocker, mm", exact=True).input_value() == "950"
+        assert pg.get_by_label("crank, mm", exact=True).input_value() == "250"
+        _shown_fits(pg)
+        # a bad address: the file's design, and the reason
+        pg.goto(server["url"] + "?mechanism=four-bar&crank=abc")
+        pg.wait_for_selector("#stroke", timeout=60_000)
+        expect(pg.locator(".design-message")).to_contain_text("crank must be a number")
+    finally:
+        pg.close()
