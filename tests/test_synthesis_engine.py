@@ -161,3 +161,77 @@ def test_result_json_report_plot():
     assert "certified: True" in text and "stroke(slider) == 0.1" in text
     fig = res.plot()
     assert len(fig.axes) == 4
+
+
+def _bounded_problem(bound, variables=None):
+    prob = ms.Problem(
+        ms.SliderCrank,
+        variables=variables or {"crank": (0.02, 0.08), "rod": (0.15, 0.4), "offset": (-0.05, 0.05)},
+        speed=W,
+        angles=32,
+    )
+    return prob.minimize(PEAK_ACC).subject_to(STROKE == 0.1, PRESSURE <= bound)
+
+
+PEAK_ACC, STROKE, PRESSURE = (
+    ob.peak_acceleration("slider"),
+    ob.stroke("slider"),
+    ob.max_pressure_angle(),
+)
+
+
+def test_one_build_serves_every_bound_of_a_structure():
+    """Build once, solve many: problems that differ only in their constraints' bounds (a Pareto
+    front's epsilon levels) and their variables' bounds share one expression graph and one
+    IPOPT solver (the bounds are parameters of the program), and give the optima of solves
+    each with a build of its own."""
+    from mechsynth.synthesis import transcription as T
+
+    cases = [
+        (0.2, None),
+        (0.15, None),
+        (0.18, {"crank": (0.03, 0.07), "rod": (0.2, 0.3), "offset": (-0.04, 0.04)}),
+    ]
+    T.clear_cache()
+    shared = [_bounded_problem(b, v).solve(starts=1) for b, v in cases]
+    info = T.cache_info()
+    assert info["structures"] == 1 and info["solvers"] == 1
+    assert info["variants"] <= 1  # the warm start's options, on the same derivatives
+    for (b, v), res in list(zip(cases, shared))[1:]:
+        T.clear_cache()
+        own = _bounded_problem(b, v).solve(starts=1)
+        assert res.success and own.success
+        assert res.value == pytest.approx(own.value, rel=1e-9)
+        for k in res.variables:
+            assert res.variables[k] == pytest.approx(own.variables[k], rel=1e-6, abs=1e-9)
+    # each optimum respects its own bounds (the bounds really are the solver's parameters)
+    for (b, v), res in zip(cases, shared):
+        assert res.constraints[1].value == pytest.approx(b, rel=1e-6)  # active
+    assert shared[2].variables["rod"] == pytest.approx(0.3)  # its own box
+    assert shared[0].value < shared[1].value * (1 - 1e-5)  # the tighter bound costs
+
+
+def test_structures_are_few_and_not_held_by_problems():
+    """The cache holds at most CACHE_SIZE structures (least recently used dropped), and a
+    Problem holds none (many problems: flat memory)."""
+    from mechsynth.synthesis import transcription as T
+
+    T.clear_cache()
+    problems = []
+    for k in range(T.CACHE_SIZE + 2):
+        prob = _sc_problem(angles=16 + k)  # a new grid size: a new structure
+        prob.minimize(PEAK_ACC)
+        problems.append(prob)
+        prob._transcription(16)
+    assert T.cache_info()["structures"] == T.CACHE_SIZE + 2
+    assert T.cache_info()["cached"] == T.CACHE_SIZE
+    assert all(
+        not any("Transcription" in type(v).__name__ for v in p._cache.values()) for p in problems
+    )
+    # the same structure again: served from the cache
+    again = _sc_problem(angles=16 + T.CACHE_SIZE + 1).minimize(PEAK_ACC)
+    again._transcription(16)
+    assert T.cache_info()["structures"] == T.CACHE_SIZE + 2
+    # another measure object is another structure (measures are keyed by identity)
+    _sc_problem(angles=16).minimize(ob.peak_acceleration("slider"))._transcription(16)
+    assert T.cache_info()["structures"] == T.CACHE_SIZE + 3

@@ -197,9 +197,10 @@ class _Epigraph:
 
 
 #: problem structures (expression graph and built solvers) kept for reuse, least recently used
-#: dropped first: a Pareto front uses three (each anchor's objective, the epsilon points) plus
-#: their refined grids
-CACHE_SIZE = 6
+#: dropped first. A Pareto front uses three (each anchor's objective, the epsilon points) plus
+#: their refined grids; an IPOPT build of the impact machine holds some 110 MB (its Hessian of
+#: the Lagrangian: 0.9 million instructions), so four bound the memory
+CACHE_SIZE = 4
 _STRUCTURES: OrderedDict = OrderedDict()
 _COUNTS = {"structures": 0, "solvers": 0, "variants": 0, "hits": 0}
 
@@ -267,9 +268,24 @@ def _structure(problem, n_extra: int) -> _Structure:
     entry = _Structure(problem, n_extra)
     _COUNTS["structures"] += 1
     _STRUCTURES[key] = entry
-    while len(_STRUCTURES) > CACHE_SIZE:
-        _STRUCTURES.popitem(last=False)
+    if len(_STRUCTURES) > CACHE_SIZE:
+        while len(_STRUCTURES) > CACHE_SIZE:
+            _STRUCTURES.popitem(last=False)
+        _release_memory()
     return entry
+
+
+def _release_memory() -> None:
+    """Give the memory of dropped structures back to the system (glibc keeps freed small
+    blocks, the expression nodes, in its heap; the resident size would stay at its peak)."""
+    import ctypes
+    import gc
+
+    gc.collect()
+    try:
+        ctypes.CDLL("libc.so.6").malloc_trim(0)
+    except (OSError, AttributeError):  # not glibc: the allocator keeps its own policy
+        pass
 
 
 class _Structure:
