@@ -14,7 +14,9 @@ CasADi expressions (certified :class:`~mechsynth.synthesis.Problem`):
 * :func:`blow_work` -- the kinetic energy the machine loses in that blow (what the motor must
   give back every turn): ``J omega^2 (1 - ((J - e m_t u^2) / (J + m_t u^2))^2) / 2``;
 * :func:`peak_transverse_force` -- the mechanism's load on the housing across the guide;
-* :func:`peak_joint_force` -- the largest joint reaction.
+* :func:`peak_joint_force` -- the largest joint reaction;
+* :func:`housing_clearances` -- the moving joints B and K kept inside the machine's case
+  (:data:`HOUSING`), by :func:`mechsynth.objectives.clearance.clearance`: on by default.
 
 The forces are the linkage's general kinetostatics (:func:`mechsynth.dynamics.kinetostatics`,
 solved symbolically group by group), the model every other force figure of the package uses.
@@ -22,6 +24,7 @@ solved symbolically group by group), the model every other force figure of the p
 
 from __future__ import annotations
 
+import functools
 import time
 
 import numpy as np
@@ -32,6 +35,7 @@ from ...dynamics.loads import Gravity
 from ...kinematics import ops
 from ...objectives import kinematic as ob
 from ...objectives.base import CycleMeasure
+from ...objectives.clearance import clearance
 from ...units import deg
 from .design import MASSES, inertias_for
 from .forces import housing_load
@@ -42,6 +46,8 @@ __all__ = [
     "blow_work",
     "peak_transverse_force",
     "peak_joint_force",
+    "HOUSING",
+    "housing_clearances",
     "impact_problem",
     "synthesize",
     "pareto_front",
@@ -150,6 +156,85 @@ def peak_transverse_force(masses=None, tilt=0.0) -> CycleMeasure:
     return CycleMeasure("peak transverse housing force", per_angle, "max", "N", branches)
 
 
+#: The machine's case around the six-link (an assumption: paper 001 gives no dimensions, like
+#: every number of the representative machine, :mod:`.design`). A rectangle in the mechanism's
+#: frame (O at the origin, the rocker's pivot D on +x), m: the representative six-link's moving
+#: joints A, B, K over a turn (x -11 to 140 mm, y -19.5 to 32.8 mm) with 16 mm all round (a
+#: 6 mm pin boss and 10 mm free), rounded out to 190 x 85 mm -- the inner section of a
+#: breaker's gear case of the 15-20 J class. The striker N runs on in its barrel through the
+#: case's wall on the tool's side and is not bounded by it; A, on the crank circle of at most
+#: 16 mm (:data:`VARIABLES`), cannot reach a wall.
+HOUSING = {"x_min": -0.030, "x_max": 0.160, "y_min": -0.035, "y_max": 0.050, "boss": 0.006}
+
+#: the housing walls' far centre: the distance of a joint from a wall is the clearance of the
+#: straight line through it, parallel to the wall, from a circle of this radius tangent to the
+#: wall on its outside (exact while the joint lies within this distance of the wall)
+_FAR = 1.0
+
+
+def housing_clearances(housing=None, points=("B", "K")) -> list:
+    """Constraints keeping ``points`` at least ``housing["boss"]`` (m) inside the case
+    :data:`HOUSING` (or ``housing``, a dict of the same keys): one
+    :func:`~mechsynth.objectives.clearance.clearance` per point and wall, the signed distance
+    of the point from the wall (positive inside), certified over the continuous crank angle
+    like every peak."""
+    from ...errors import MechanismError
+
+    h = dict(HOUSING if housing is None else housing)
+    missing = {"x_min", "x_max", "y_min", "y_max", "boss"} - set(h)
+    if missing:
+        raise MechanismError(f"housing: give {', '.join(sorted(missing))} (m)")
+    if not (h["x_min"] < h["x_max"] and h["y_min"] < h["y_max"] and h["boss"] >= 0.0):
+        raise MechanismError(f"housing: need x_min < x_max, y_min < y_max and boss >= 0 m, got {h}")
+    walls = (  # (side, the far circle's centre, the wall's direction)
+        ("left", (h["x_min"] - _FAR, 0.0), np.pi / 2),
+        ("right", (h["x_max"] + _FAR, 0.0), np.pi / 2),
+        ("bottom", (0.0, h["y_min"] - _FAR), 0.0),
+        ("top", (0.0, h["y_max"] + _FAR), 0.0),
+    )
+    return [
+        clearance(p, circle=(c, _FAR), direction=d, name=f"{p} from the housing's {side} wall")
+        >= h["boss"]
+        for p in points
+        for side, c, d in walls
+    ]
+
+
+@functools.lru_cache(maxsize=8)
+def _measures(tool_mass, restitution, jd, masses, tilt, housing):
+    """The problem's measures, made once per set of numbers: problems built again with the same
+    numbers (the synthesis, its re-solve, the Pareto front) then share their measures, so the
+    synthesis engine builds their program once (it knows measures by identity)."""
+    masses = dict(masses)
+    return (
+        blow_energy(tool_mass, restitution, jd, masses),
+        blow_work(tool_mass, restitution, jd, masses),
+        peak_joint_force(masses, tilt),
+        peak_transverse_force(masses, tilt),
+        ob.stroke("N"),
+        ob.min_transmission_angle("B"),
+        ob.max_pressure_angle("N"),
+        tuple(housing_clearances(dict(housing))) if housing else (),
+    )
+
+
+def _measure_key(machine, masses, housing):
+    """The numbers :func:`_measures` is made from (hashable)."""
+    if housing is True:
+        housing = HOUSING
+    if housing:
+        housing_clearances(housing)  # checked here, with its message
+        housing = tuple(sorted((k, float(v)) for k, v in dict(housing).items()))
+    return (
+        float(machine.tool.mass),
+        float(machine.tool.restitution),
+        float(machine.drive_inertia()),
+        tuple(sorted(masses.items())),
+        float(machine.tilt),
+        housing or None,
+    )
+
+
 def impact_problem(
     machine,
     *,
@@ -160,6 +245,7 @@ def impact_problem(
     angles=48,
     variables=None,
     exact_stroke=False,
+    housing=True,
 ):
     """The certified problem over the six-link ``machine``'s dimensions (:data:`VARIABLES`):
     maximize :func:`blow_energy` at the machine's speed (blows per minute), subject to the
@@ -172,7 +258,10 @@ def impact_problem(
     faster striker, so the bound is active at the optimum (:func:`synthesize` checks it and
     solves again with ``== stroke`` if not), and the upper bound is a smooth constraint (one
     row per grid angle) where an equality of the grid's max minus min is not: IPOPT reached
-    its iteration limit on two of three starts with it. ``exact_stroke=True``: ``== stroke``."""
+    its iteration limit on two of three starts with it. ``exact_stroke=True``: ``== stroke``.
+
+    ``housing``: the moving joints inside the machine's case (:func:`housing_clearances`): True
+    (default) for :data:`HOUSING`, a dict of its keys for another case, False for none."""
     from ... import validate
     from ...errors import MechanismError
     from ...synthesis.problem import Problem
@@ -197,22 +286,24 @@ def impact_problem(
         )
     masses = dict(MASSES)
     masses.update({"striker": float(machine.inertias["N"][0])})
-    jd = machine.drive_inertia()
-    tool = machine.tool
     p_motor = MOTOR_ASSUMPTION["rated_power_W"] if motor_power is None else float(motor_power)
+    energy, work, joints, _, stroke_m, mu_b, pressure_n, walls = _measures(
+        *_measure_key(machine, masses, housing)
+    )
     prob = Problem(
         machine.linkage,
         variables=dict(VARIABLES if variables is None else variables),
         speed=machine.omega,
         angles=angles,
     )
-    prob.maximize(blow_energy(tool.mass, tool.restitution, jd, masses))
+    prob.maximize(energy)
     prob.subject_to(
-        (ob.stroke("N") == stroke) if exact_stroke else (ob.stroke("N") <= stroke),
-        ob.min_transmission_angle("B") >= deg(min_transmission_deg),
-        ob.max_pressure_angle("N") <= deg(90.0 - min_transmission_deg),
-        peak_joint_force(masses, machine.tilt) <= max_joint_force,
-        blow_work(tool.mass, tool.restitution, jd, masses) <= p_motor * 60.0 / machine.speed_rpm,
+        (stroke_m == stroke) if exact_stroke else (stroke_m <= stroke),
+        mu_b >= deg(min_transmission_deg),
+        pressure_n <= deg(90.0 - min_transmission_deg),
+        joints <= max_joint_force,
+        work <= p_motor * 60.0 / machine.speed_rpm,
+        *walls,
     )
     return prob, masses
 
@@ -255,6 +346,7 @@ def synthesize(machine, starts=3, x0=None, **options) -> dict:
             "min_transmission_deg": options.get("min_transmission_deg", 40.0),
             "max_joint_force_N": options.get("max_joint_force", 9000.0),
             "speed_rpm": machine.speed_rpm,
+            "housing_m": _housing_of(options.get("housing", True)),
         },
         "representative": {
             "blow_energy_J": float(start["blow energy"]),
@@ -264,7 +356,20 @@ def synthesize(machine, starts=3, x0=None, **options) -> dict:
     }
     if res.success:
         out["check"] = _check(machine, res.design, masses)
+        walls = [c for c in res.constraints if "housing" in c.name]
+        if walls:
+            closest = min(walls, key=lambda c: c.value)
+            out["check"]["housing_clearance_m"] = float(closest.value)
+            out["check"]["housing_closest"] = closest.name.split(" from the housing's ")[0] + (
+                " to the " + closest.name.split(" from the housing's ")[1]
+            )
     return out
+
+
+def _housing_of(housing):
+    if housing is True:
+        return dict(HOUSING)
+    return dict(housing) if housing else None
 
 
 def pareto_front(
@@ -281,11 +386,14 @@ def pareto_front(
     # the stroke held at the requirement: the loads fall with the stroke, so an upper bound
     # would not be active towards the low-load end of the front
     prob, masses = impact_problem(machine, **{"exact_stroke": True, **options})
+    # the problem's own measure objects, so the anchors and points share built programs
+    energy = prob.objective
+    transverse = _measures(*_measure_key(machine, masses, options.get("housing", True)))[3]
     t = time.perf_counter()
     front = sweep(
         prob,
-        blow_energy(machine.tool.mass, machine.tool.restitution, machine.drive_inertia(), masses),
-        peak_transverse_force(masses, machine.tilt),
+        energy,
+        transverse,
         n=int(n),
         senses=("max", "min"),
         starts=int(starts),
@@ -308,6 +416,15 @@ def _stroke_phrase(o):
     return f"stroke <= {h} (bound {o['stroke_bound']})"
 
 
+def _housing_phrase(h):
+    if not h:
+        return ""
+    return (
+        f", B and K >= {h['boss'] * 1e3:g} mm inside the {(h['x_max'] - h['x_min']) * 1e3:g} x "
+        f"{(h['y_max'] - h['y_min']) * 1e3:g} mm housing"
+    )
+
+
 def summary_lines(synth: dict) -> list[str]:
     """The synthesis and the front in a few lines of the study's summary."""
     o = synth["optimum"]
@@ -316,7 +433,8 @@ def summary_lines(synth: dict) -> list[str]:
         f" synthesis (certified IPOPT, 8 dimensions): maximize the blow energy at "
         f"{lim['speed_rpm']:g} blows/min, {_stroke_phrase(o)}, transmission "
         f">= {lim['min_transmission_deg']:g} deg, joint forces <= {lim['max_joint_force_N']:g} N, "
-        f"the motor's rated power: {o['status']} in {o['solve_time_s']:.1f} s"
+        f"the motor's rated power{_housing_phrase(lim.get('housing_m'))}: {o['status']} in "
+        f"{o['solve_time_s']:.1f} s"
     ]
     if o["success"]:
         c = o["check"]
@@ -328,6 +446,11 @@ def summary_lines(synth: dict) -> list[str]:
             f"{c['min_transmission_B_deg']:.2f} deg, peak joint force "
             f"{c['peak_joint_force_N']:.0f} "
             f"N, transverse {c['transverse_peak_N']:.0f} N"
+            + (
+                f", {c['housing_closest']} {c['housing_clearance_m'] * 1e3:.2f} mm"
+                if "housing_clearance_m" in c
+                else ""
+            )
         )
         lines.append(
             "   "
