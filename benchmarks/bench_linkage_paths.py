@@ -37,7 +37,8 @@ first-use set-up, paid once per process by any compiled function, timed apart), 
 serves while the kernel compiles in the background, and when the kernel is ready.
 
 Run: ``python benchmarks/bench_linkage_paths.py [--designs 1 100 10000] [--runs 3]
-[--compile] [--json]``. The machine these run on is shared: compare ratios within a run.
+[--compile] [--json]``; ``--show FILE`` prints the report saved with ``--json``. The machine
+these run on is shared: compare ratios within a run.
 """
 
 from __future__ import annotations
@@ -495,7 +496,12 @@ def main(argv=None):
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--compile", action="store_true", help="time compilation and loading")
     ap.add_argument("--json", action="store_true")
+    ap.add_argument("--show", metavar="FILE", help="print the report saved by --json in FILE")
     args = ap.parse_args(argv)
+    if args.show:
+        with open(args.show) as f:
+            show(json.load(f), args.repeat, args.runs)
+        return
     import numba
 
     numba.set_num_threads(1)
@@ -529,7 +535,12 @@ def main(argv=None):
     if args.json:
         print(json.dumps(report, indent=2, default=str))
         return
-    print(f"360 angles, one thread, CPU time, median of {args.repeat} per run, {args.runs} runs "
+    show(report, args.repeat, args.runs)
+
+
+def show(report, repeat, runs):
+    """Print a report (of :func:`main`, or read back from its ``--json`` output)."""
+    print(f"360 angles, one thread, CPU time, median of {repeat} per run, {runs} runs "
           f"(load average {report['load average']:.1f}: a shared machine; ratios within a run)")
     for name, entry in report["linkages"].items():
         print(f"\n{name}: plain numpy = Linkage.motion to {entry['plain numpy agrees to']:.1e} "
@@ -545,10 +556,10 @@ def main(argv=None):
             starts = ", ".join(f"{x:.2f}" for x in c["numba start"])
             print(f"  kernel, new process, from the cache: {loads} s after numba's start "
                   f"({starts} s: its import and set-up, once per process)")
-        for n in args.designs:
+        for n in (k for k in entry if str(k).isdigit()):
             got = entry[n]
             base = got["Linkage.motion"]
-            print(f"  {n} design{'s' if n > 1 else ''}:")
+            print(f"  {n} design{'s' if int(n) > 1 else ''}:")
             for label, ts in got.items():
                 ratio = " ".join(f"{b / t:6.2f}" for b, t in zip(base, ts))
                 times = " ".join(f"{t * 1e3:9.3f}" for t in ts)

@@ -48,3 +48,37 @@ def test_roles_and_memory_count_follow_the_structure():
     longer = lk.attach("P", on=("K", "E"), along=0.01)
     assert longer._motion_arrays == lk._motion_arrays + 12
     assert lk.rename(KE="link")._motion_arrays == lk._motion_arrays
+
+
+def test_a_designs_batch_call_runs_little_python_around_the_kernel():
+    """linkage_batch for one design: the motion made of views of the block from row indices
+    read once per structure, the last block's views remembered -- a few Python frames per
+    call, whatever the linkage's size (was one per point, link and group, and per parameter)."""
+    import sys
+
+    import pytest
+
+    pytest.importorskip("numba")
+    from mechsynth.kinematics import linkage_kernels as lkk
+    from mechsynth.kinematics.compiled import BatchWorkspace
+
+    lk, phi, ws, speed = _watt_ii(), ms.cycle(360), BatchWorkspace(), ms.rpm(600)
+    kernel = lkk.linkage_kernel(lk)
+    frames = []
+
+    def count(frame, event, arg):
+        if event == "call":
+            frames.append(frame.f_code.co_name)
+
+    for _ in range(2):  # the recipe and the block's views made on the first call
+        motion, good, failed = lkk.linkage_batch(lk, phi, speed, ws, kernel)
+    sys.setprofile(count)
+    try:
+        again, good, failed = lkk.linkage_batch(lk, phi, speed, ws, kernel)
+    finally:
+        sys.setprofile(None)
+    assert len(frames) <= 25, frames  # 22 when written (was 120)
+    assert good.all() and not failed.any()
+    model = lk.motion(phi, speed=ms.rpm(600))
+    for a, b in zip(_tracks(model), _tracks(again), strict=True):  # one design: (1, 360)
+        np.testing.assert_allclose(np.reshape(b, -1), np.broadcast_to(a, (360,)), 1e-12, 1e-12)

@@ -640,7 +640,7 @@ def linkage_batch(linkage, phi, speed=None, workspace=None, kernel=None, wait=Tr
     others (a toggle, or within round-off of closing) are the model's to judge.
     """
     values = linkage._values
-    scalars = all(type(v) is float for v in values.values())
+    scalars = {*map(type, values.values())} == {float}
     if not scalars and any(ops.is_symbolic(v) for v in values.values()):
         return None
     phi = np.asarray(phi, dtype=float)
