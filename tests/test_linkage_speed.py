@@ -77,7 +77,7 @@ def test_a_designs_batch_call_runs_little_python_around_the_kernel():
         again, good, failed = lkk.linkage_batch(lk, phi, speed, ws, kernel)
     finally:
         sys.setprofile(None)
-    assert len(frames) <= 25, frames  # 22 when written (was 120)
+    assert len(frames) <= 25, frames  # 22 when written (86 before)
     assert good.all() and not failed.any()
     model = lk.motion(phi, speed=ms.rpm(600))
     for a, b in zip(_tracks(model), _tracks(again), strict=True):  # one design: (1, 360)
