@@ -82,11 +82,13 @@ def _population_error(X, targets, mu_min):
     from mechsynth.kinematics.four_bar import four_bar_chain
 
     n = len(targets)
+    # penalties in the error's units: the targets' spread times their count
+    big = n * float(np.sum(np.ptp(targets, axis=0) ** 2))
     crank, coupler, rocker, ground, u, v, x0, y0, ang = X[:9]
     phi = np.sort(X[9:], axis=0)  # the order: sorted (penalty below for the one-turn span)
     span = phi[-1] - phi[0]
     ok = (crank + ground < coupler + rocker) & (np.abs(ground - crank) > np.abs(coupler - rocker))
-    out = np.full(X.shape[1], 1e3)
+    out = np.full(X.shape[1], 1e3 * big)
     if not ok.any():
         return out
     mu = np.zeros_like(crank)
@@ -103,9 +105,9 @@ def _population_error(X, targets, mu_min):
         y = col[7] + s * q.x + c * q.y
         e = np.sum((x - targets[:, 0]) ** 2 + (y - targets[:, 1]) ** 2, axis=1)
         err[idx] = np.minimum(err[idx], e)
-    pen = 10.0 * np.maximum(0.0, np.deg2rad(mu_min) - mu) + 10.0 * np.maximum(0.0, span - 2 * np.pi)
+    pen = 10.0 * big * (np.maximum(0.0, np.deg2rad(mu_min) - mu)
+                        + np.maximum(0.0, span - 2 * np.pi))  # fmt: skip
     out[ok] = err[ok] + pen[ok]
-    del n
     return out
 
 
