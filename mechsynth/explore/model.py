@@ -234,7 +234,7 @@ def _beam_pump() -> Kind:
 
     def build(v):
         return BeamPumpingUnit.from_api(
-            **v, unit_class=text["unit_class"], rotation=text["rotation"]
+            **v, unit_class=text["unit_class"], rotation=text["rotation"], units="m"
         )
 
     to_params, to_param, from_param = _pump_kind_maps(text)
