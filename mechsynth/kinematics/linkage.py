@@ -1110,10 +1110,11 @@ class Linkage(Drawable):
         owner = self._owner
         for name, p in st.points.items():
             # a frame point's jet holds its coordinates (numbers): made tracks of the motion's
-            # shape (a kernel's rows are full tracks already)
+            # shape (a kernel's rows are full tracks already), at rest (no scaling of zeros)
             if not scaled and owner.get(name) == FRAME:
-                p = PointJet(p.x + zero, p.y + zero, zero, zero, zero, zero)
-            points[name] = PointTrack.from_jet(p, omega, eps)
+                points[name] = PointTrack.of(p.x + zero, p.y + zero, zero, zero, zero, zero)
+            else:
+                points[name] = PointTrack.from_jet(p, omega, eps)
         links = {name: LinkTrack.from_jet(j, omega, eps) for name, j in st.links.items()}
         out_group = self._group_of(self.default_output)
         sliders = {k: SliderTrack.from_jet(j, omega, eps) for k, j in st.sliders.items()}
