@@ -287,7 +287,7 @@ class FunctionGeneration:
         transmission angle over the range; ``"auto"`` takes 30 deg, or the design's own
         minimum if lower (so that it is feasible); None none. A design from precision pairs has
         no function: MechanismError."""
-        from ..explore.model import to_toml
+        from ..tomlwrite import to_toml
         from .function_problem import problem_data
 
         if isinstance(min_transmission, str) and min_transmission == "auto":
