@@ -108,7 +108,7 @@ class SynthesisTab:
 
         # the canvas: targets, poses, the previewed solution
         self.fig = figure(
-            height=360, min_width=280, sizing_mode="stretch_width",
+            height=300, min_width=280, sizing_mode="stretch_width",
             tools="pan,wheel_zoom,reset", title="click to place a target point or a pose",
             x_axis_label="x", y_axis_label="y", name="synth-canvas",
         )  # fmt: skip
@@ -161,7 +161,7 @@ class SynthesisTab:
             pn.widgets.TextAreaInput,
             self._points_label(),
             value=DEFAULT_POINTS,
-            height=150,
+            height=110,
             min_width=260,
             max_width=600,
             sizing_mode="stretch_width",
@@ -268,8 +268,9 @@ class SynthesisTab:
 
         help_ = pn.pane.HTML(
             "<b>Path generation</b>: a four-bar whose coupler point passes as near as possible "
-            "to the target points (<code>ms.path_generation</code>), with the crank turning "
-            "fully. A click on the canvas above adds a point; the list can be typed or pasted."
+            "to the points (<code>ms.path_generation</code>), its crank turning fully. A click "
+            "on the canvas adds a point; the list can be typed or pasted.",
+            margin=(0, 10),
         )
         path = pn.Column(
             help_,
@@ -551,22 +552,22 @@ class SynthesisTab:
             self.path_load.disabled = True
             self.clear_preview()
             return
-        fmt = self.app._fmt
         st = self.app.state
         unit = st.unit_label("m")
         f = st.display.factor("m")
         html = [
             "<table id='path-table' style='font-size:13px'><tr><th>rank</th>"
             f"<th>largest distance, {unit}</th><th>sum of squared distances, {unit}^2</th>"
-            "<th>min transmission angle, deg</th><th>crank</th><th>coupler</th><th>rocker</th>"
-            "<th>ground</th><th>note</th></tr>"
+            "<th>min transmission angle, deg</th>"
+            + "".join(f"<th>{k}, {unit}</th>" for k in ("crank", "coupler", "rocker", "ground"))
+            + "<th>note</th></tr>"
         ]
         for r in rows:
             html.append(
                 f"<tr><td>{r['rank']}</td><td>{r['max_distance'] / f:.4g}</td>"
                 f"<td>{r['error'] / f**2:.4g}</td>"
                 f"<td>{math.degrees(r['transmission']):.1f}</td>"
-                + "".join(f"<td>{fmt(r[k], 'm')}</td>" for k in
+                + "".join(f"<td>{r[k] / f:.6g}</td>" for k in
                           ("crank", "coupler", "rocker", "ground"))
                 + f"<td>{r['note'] or ''}</td></tr>"
             )  # fmt: skip
