@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import importlib
 
-from .errors import MechanismError, SolverError
+from .errors import MechanismError, SolverError, UnknownNameError
 from .lazy import lazy_names as _lazy_names
 from .units import cycle, deg, dms, inch, rpm, spm, to_deg, to_inch, to_rpm
 
@@ -96,6 +96,7 @@ __all__ = [
     "nomogram",
     "MechanismError",
     "SolverError",
+    "UnknownNameError",
     "SliderCrank",
     "FourBar",
     "Linkage",

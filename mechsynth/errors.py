@@ -25,6 +25,14 @@ class UsageError(MechanismError, TypeError):
     code that catches the wrong kind of argument that way."""
 
 
+class UnknownNameError(UsageError, KeyError):
+    """A point, link or slider a motion does not have (``motion.links["nope"]``): a
+    :class:`MechanismError` naming the known ones, and a ``KeyError``, so ``except KeyError``
+    and ``dict.get`` keep working."""
+
+    __str__ = BaseException.__str__  # KeyError's would quote the whole message
+
+
 class SolverError(RuntimeError):
     """A solver could not be run at all (missing plugin, malformed problem).
 

@@ -6,8 +6,9 @@ import pickle
 import pytest
 
 import mechsynth as ms
+from mechsynth import UnknownNameError
 from mechsynth.errors import MechanismError
-from mechsynth.kinematics.tracks import Tracks, UnknownNameError
+from mechsynth.kinematics.tracks import Tracks
 
 
 def _motions():

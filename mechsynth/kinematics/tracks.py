@@ -18,7 +18,7 @@ from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
 
-from ..errors import MechanismError, UsageError
+from ..errors import MechanismError, UnknownNameError
 from . import ops
 
 __all__ = [
@@ -208,14 +208,6 @@ class SliderTrack:
     @classmethod
     def from_jet(cls, j: Jet, omega, epsilon) -> SliderTrack:
         return _slider_track(*to_time(j, omega, epsilon))
-
-
-class UnknownNameError(UsageError, KeyError):
-    """A point, link or slider a motion does not have (``motion.links["nope"]``): a
-    :class:`~mechsynth.errors.MechanismError` naming the known ones, and a ``KeyError``, so
-    ``except KeyError`` and ``dict.get`` keep working."""
-
-    __str__ = BaseException.__str__  # KeyError's would quote the whole message
 
 
 class Tracks(dict):
