@@ -205,7 +205,7 @@ def test_one_build_serves_every_bound_of_a_structure():
         for k in res.variables:
             assert res.variables[k] == pytest.approx(own.variables[k], rel=1e-6, abs=1e-9)
     # each optimum respects its own bounds (the bounds really are the solver's parameters)
-    for (b, v), res in zip(cases, shared):
+    for (b, _), res in zip(cases, shared):
         assert res.constraints[1].value == pytest.approx(b, rel=1e-6)  # active
     assert shared[2].variables["rod"] == pytest.approx(0.3)  # its own box
     assert shared[0].value < shared[1].value * (1 - 1e-5)  # the tighter bound costs
@@ -235,3 +235,20 @@ def test_structures_are_few_and_not_held_by_problems():
     # another measure object is another structure (measures are keyed by identity)
     _sc_problem(angles=16).minimize(ob.peak_acceleration("slider"))._transcription(16)
     assert T.cache_info()["structures"] == T.CACHE_SIZE + 3
+
+
+def test_the_cache_keeps_built_solvers_within_its_instruction_budget(monkeypatch):
+    """Memory follows the built Hessians: beyond CACHE_INSTRUCTIONS the least recently used
+    structures are dropped (never the newest)."""
+    from mechsynth.synthesis import transcription as T
+
+    T.clear_cache()
+    a = _sc_problem(angles=16).minimize(PEAK_ACC)._transcription(16)
+    a.solver("ipopt")
+    assert a.structure.weight > 0
+    monkeypatch.setattr(T, "CACHE_INSTRUCTIONS", a.structure.weight + 1)
+    b = _sc_problem(angles=17).minimize(PEAK_ACC)._transcription(16)
+    assert T.cache_info()["cached"] == 2  # b's solver not built yet: no weight
+    b.solver("ipopt")
+    assert T.cache_info()["cached"] == 1 and a.structure not in T._STRUCTURES.values()
+    assert b.structure in T._STRUCTURES.values()

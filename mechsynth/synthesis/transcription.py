@@ -198,9 +198,12 @@ class _Epigraph:
 
 #: problem structures (expression graph and built solvers) kept for reuse, least recently used
 #: dropped first. A Pareto front uses three (each anchor's objective, the epsilon points) plus
-#: their refined grids; an IPOPT build of the impact machine holds some 110 MB (its Hessian of
-#: the Lagrangian: 0.9 million instructions), so four bound the memory
+#: their refined grids
 CACHE_SIZE = 4
+#: and at most this many instructions of built IPOPT Hessians among them (the newest structure
+#: is always kept): memory follows them, some 120 bytes each (the impact machine's program on
+#: 64 angles: 0.9 million, 110 MB; on 112 angles after refinement some 1.6 million)
+CACHE_INSTRUCTIONS = 3_000_000
 _STRUCTURES: OrderedDict = OrderedDict()
 _COUNTS = {"structures": 0, "solvers": 0, "variants": 0, "hits": 0}
 
@@ -268,11 +271,22 @@ def _structure(problem, n_extra: int) -> _Structure:
     entry = _Structure(problem, n_extra)
     _COUNTS["structures"] += 1
     _STRUCTURES[key] = entry
-    if len(_STRUCTURES) > CACHE_SIZE:
-        while len(_STRUCTURES) > CACHE_SIZE:
-            _STRUCTURES.popitem(last=False)
-        _release_memory()
+    _trim_cache()
     return entry
+
+
+def _trim_cache() -> None:
+    """Drop the least recently used structures beyond :data:`CACHE_SIZE` or
+    :data:`CACHE_INSTRUCTIONS` (never the newest)."""
+    dropped = False
+    while len(_STRUCTURES) > 1 and (
+        len(_STRUCTURES) > CACHE_SIZE
+        or sum(e.weight for e in _STRUCTURES.values()) > CACHE_INSTRUCTIONS
+    ):
+        _STRUCTURES.popitem(last=False)
+        dropped = True
+    if dropped:
+        _release_memory()
 
 
 def _release_memory() -> None:
@@ -436,6 +450,7 @@ class _Structure:
         self.ubx = np.concatenate([np.ones(n), np.full(self.n_epi, np.inf)])
         self.solvers: dict[Any, Any] = {}
         self.derivatives: dict | None = None  # of the first IPOPT build, for the others
+        self.weight = 0  # instructions of the built IPOPT Hessian (memory, for the cache)
 
     def solver(self, method: str, options: dict | None = None):
         """The cached CasADi solver ``method`` ("ipopt") or casadi Functions ("functions")."""
@@ -483,7 +498,11 @@ class _Structure:
                     k: built.get_function(f"nlp_{v}")
                     for k, v in (("hess_lag", "hess_l"), ("jac_g", "jac_g"), ("grad_f", "grad_f"))
                 }
+                self.weight = int(self.derivatives["hess_lag"].n_instructions())
                 _COUNTS["solvers"] += 1
+                self.solvers[key] = built
+                _trim_cache()
+                return built
         elif method == "functions":
             grad = ca.gradient(self.f, self.x)
             jac = ca.jacobian(self.g, self.x)
