@@ -36,7 +36,7 @@ reach round-off).
 deg), ``--out DIR`` writes the figures and ``results.json``.
 
 Run: python benchmarks/bench_path_generation.py [--budget S] [--front] [--out DIR]
-[--cases NAME ...]
+[--cases NAME ...]; ``--bound-figure --out DIR`` draws only the lower bound's figure.
 """
 
 from __future__ import annotations
@@ -171,6 +171,33 @@ def run_pylinkage(targets):
     }
 
 
+def bound_figure(out, seconds=60.0):
+    """The lower bound's two regimes on nine points of the known four-bar moved by 0.05 m
+    (prescribed timing): the pivots given (it closes) and all eight coordinates within 0.05 m
+    of the known design (it does not, in ``seconds``). Writes ``path_bound.png``."""
+    from mechsynth.plotting import save
+    from mechsynth.synthesis.path_bound import COORDS, box_point, path_bound
+
+    t, d, ang = exact_case(9)
+    t = t + np.random.default_rng(1).normal(scale=0.05, size=t.shape)
+    x = box_point(d, ang[0])
+    free = np.array([0, 0, 0.5, 0.5, 0, 0, 0.5, 0.5]) + 1e-9
+    runs = [
+        (path_bound(t, ang, region={k: (v - w, v + w) for k, v, w in zip(COORDS, x, free)},
+                    branch="open", time_limit=seconds),
+         "pivots given; crank vector, coupler, rocker ±0.5 m"),
+        (path_bound(t, ang, region={k: (v - 0.05, v + 0.05) for k, v in zip(COORDS, x)},
+                    branch="open", time_limit=seconds, max_boxes=10**8),
+         "all eight coordinates ±0.05 m"),
+    ]  # fmt: skip
+    for b, label in runs:
+        print(f"bound, {label}: {b.summary()}")
+    from mechsynth.synthesis.path_figures import bound_figure as draw
+
+    fig = draw([b for b, _ in runs], [label for _, label in runs])
+    return save(fig, Path(out) / "path_bound.png")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--budget", type=float, default=60.0, help="DE's time budget per case, s")
@@ -179,10 +206,15 @@ def main(argv=None):
     ap.add_argument("--no-de", action="store_true")
     ap.add_argument("--no-pylinkage", action="store_true")
     ap.add_argument("--cases", nargs="+", help="only these cases (default: all, exact-9 last)")
+    ap.add_argument("--bound-figure", action="store_true",
+                    help="only the lower bound's figure (path_bound.png into --out)")
     args = ap.parse_args(argv)
     out = Path(args.out) if args.out else None
     if out:
         out.mkdir(parents=True, exist_ok=True)
+    if args.bound_figure:
+        print(bound_figure(out or Path(".")))
+        return
     ms.path_generation(CASES["bulatovic-12"].targets, starts=1)  # atlas and CasADi warm-up
     rows = {}
     for name, targets, pub, mu in _cases():

@@ -161,7 +161,7 @@ def test_the_gap_shrinks_as_the_boxes_are_refined_and_closes():
     reg = _fixed_pivots(x, 0.1)
     runs = [pb.path_bound(t, ang, region=reg, max_boxes=m) for m in (1_000, 3_000, 40_000)]
     for r in runs:
-        lows = [v for _, v in r.history]
+        lows = [h[1] for h in r.history]
         assert np.all(np.diff(lows) >= 0)  # the lower bound only rises
         assert 0 <= r.lower <= r.best
     assert runs[0].lower < runs[1].lower < runs[2].lower
@@ -169,6 +169,13 @@ def test_the_gap_shrinks_as_the_boxes_are_refined_and_closes():
     last = runs[2]
     assert last.closed and last.useful and last.open == 0 and last.boxes < 40_000
     assert last.gap <= 1e-3 * last.best  # the default rtol
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from mechsynth.plotting import layout_problems
+
+    fig = last.figure()
+    assert layout_problems(fig) == [] and "closed" in fig.axes[0].get_title()
     # the best centre is a four-bar: its error by the library's model
     des = last.best_design
     phi = des["phi1"] + ang - ang[0]

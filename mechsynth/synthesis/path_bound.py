@@ -81,6 +81,8 @@ class PathBound:
         :data:`~mechsynth.synthesis.path_result.NAMES`, m and rad, ``phi1`` the crank angle at
         the first target, ``branch`` and ``error``), or None.
     message : why the search stopped, and whether the bound is useful.
+    history : ``(boxes, lower bound, best)`` (m^2) after each step of the tree (the best: of the
+        design given or the tree's centres).
     """
 
     lower: float
@@ -105,6 +107,13 @@ class PathBound:
             f"m^2" + ("" if self.closed else f" ({100 * self.relative_gap:.3g} % of the best)")
             + f", {self.boxes} boxes, {self.seconds:.2f} s: {self.message}"
         )
+
+    def figure(self, title: str | None = None):
+        """The lower bound and the best error against the boxes evaluated (a matplotlib
+        figure; :func:`~mechsynth.synthesis.path_figures.bound_figure`)."""
+        from .path_figures import bound_figure
+
+        return bound_figure([self], [title or "prescribed-timing path generation"])
 
     def as_dict(self) -> dict:
         return {
@@ -500,7 +509,7 @@ def path_bound(
             floor = min(floor, float(lb[drop].min()))
             lo, hi, sg, lb, cut = lo[~drop], hi[~drop], sg[~drop], lb[~drop], cut[~drop]
         lower = min(floor, float(lb.min(initial=np.inf)), ub)
-        history.append((boxes, lower * scale**2))
+        history.append((boxes, lower * scale**2, ub * scale**2))
         if lb.size == 0:
             break
         if boxes >= max_boxes:

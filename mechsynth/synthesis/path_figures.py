@@ -99,3 +99,36 @@ def pareto_figure(front, published=None, title="error versus smallest transmissi
         ax.set_title(title)
         ax.legend(loc="center right")
     return fig
+
+
+def bound_figure(bounds, titles):
+    """One panel per :class:`~mechsynth.synthesis.path_bound.PathBound` of ``bounds``: its
+    proved lower bound and the best error against the boxes evaluated, the gap between them
+    shaded, the end's numbers in the title."""
+    import matplotlib.pyplot as plt
+
+    from ..plotting import PALETTE, style
+
+    with style():
+        fig, axes = plt.subplots(1, len(bounds), figsize=(5.2 * len(bounds), 4.0),
+                                 squeeze=False)  # fmt: skip
+        for ax, b, title in zip(axes[0], bounds, titles):
+            h = np.array(b.history, dtype=float)
+            boxes, low = h[:, 0], h[:, 1]
+            best = np.where(np.isfinite(h[:, 2]), np.minimum(h[:, 2], b.best), np.nan)
+            ax.fill_between(boxes, low, best, step="post", color=PALETTE[1], alpha=0.15,
+                            lw=0, label="gap")  # fmt: skip
+            ax.step(boxes, best, where="post", color=PALETTE[6], lw=1.4, ls="--",
+                    label="best design")  # fmt: skip
+            ax.step(boxes, low, where="post", color=PALETTE[1], lw=1.8,
+                    label="proved lower bound")  # fmt: skip
+            ax.set_xscale("log")
+            top = np.nanmax(np.append(best, b.best)) if np.isfinite(b.best) else np.nanmax(low)
+            ax.set_ylim(0.0, 1.15 * float(top))
+            ax.set_xlabel("boxes evaluated")
+            ax.set_ylabel("error (sum of squared distances), m²")
+            state = "closed" if b.closed else (f"gap {100 * b.relative_gap:.3g} %")
+            ax.set_title(f"{title}\n{b.lower:.5g} ≤ optimum ≤ {b.best:.5g} m² ({state}, "
+                         f"{b.seconds:.1f} s)", fontsize=9)  # fmt: skip
+            ax.legend(loc="center left", fontsize=8)
+    return fig
