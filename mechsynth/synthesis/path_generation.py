@@ -33,8 +33,8 @@ atlas's nearest curves by shape (:mod:`mechsynth.synthesis.path_atlas`), both br
 Beside the four-bar: any Linkage or the slider-crank (:mod:`.path_linkage`), the library's
 measures as constraints (:mod:`.path_measures`), shape-only timing (:mod:`.path_shape`); the
 results are :mod:`.path_result`'s, the cognates :mod:`.path_cognates`'s, the literature cases
-:mod:`.path_cases`'s, the error-transmission front :mod:`.path_front`'s. See
-``docs/path_generation.md``.
+:mod:`.path_cases`'s, the error-transmission front :mod:`.path_front`'s, the proved lower
+bound with prescribed timing (``bound=``) :mod:`.path_bound`'s. See ``docs/path_generation.md``.
 """
 
 from __future__ import annotations
