@@ -609,13 +609,12 @@ class SynthesisTab:
         if sol is None or app._busy("load a solution"):
             return
         st = path_state(sol, rank, app.units_select.value)
-        with _held():
-            app._load_state(st, None)
-            # the targets on the drawing (points: no angle)
-            app._targets = np.column_stack([self._targets, np.full(len(self._targets), np.nan)])
-            app._draw_targets()
-            if hasattr(app, "tabs"):
-                app.tabs.active = 0
+        app._load_state(st, None)
+        # the targets on the drawing (points: no angle)
+        app._targets = np.column_stack([self._targets, np.full(len(self._targets), np.nan)])
+        app._draw_targets()
+        if hasattr(app, "tabs"):
+            app.tabs.active = 0
 
     # ------------------------------------------------------------------ function generation
     def function_job(self) -> FunctionJob:
@@ -709,10 +708,9 @@ class SynthesisTab:
         except MechanismError as exc:
             self.fn_msg.object = _bad(exc, "function-state")
             return
-        with _held():
-            app._load_state(st, None)
-            if hasattr(app, "tabs"):
-                app.tabs.active = 0
+        app._load_state(st, None)
+        if hasattr(app, "tabs"):
+            app.tabs.active = 0
 
     # ------------------------------------------------------------------ units
     def units_changed(self):
@@ -725,20 +723,6 @@ class SynthesisTab:
 
 
 # ------------------------------------------------------------------------------ helpers
-def _held():
-    """The page's changes sent to the browser as one message when the block ends (a new
-    mechanism changes hundreds of widget properties; one by one, the browser lays the page
-    out again after each)."""
-    import contextlib
-
-    import panel as pn
-
-    doc = pn.state.curdoc
-    if doc is None or getattr(doc, "session_context", None) is None:
-        return contextlib.nullcontext()
-    return pn.io.hold(doc)
-
-
 def _append(text: str | None, line: str) -> str:
     text = (text or "").rstrip("\n")
     return f"{text}\n{line}" if text else line
