@@ -326,8 +326,16 @@ def test_page_drags_a_crank_pin_and_snaps_back_with_the_reason(page):
         i = data["name"].index(name)
         data["x"][i] += dx
         data["y"][i] += dy
+        page.src_joints.selected.indices = [i]  # the drawing's tool grabs it
         page.src_joints.data = data
+        page.src_joints.selected.indices = []
 
+    # the drawing's tool sends the joints as the browser shows them when a pivot is dragged
+    # (the player may stand between two frames): no joint was grabbed, nothing changes
+    data = {k_: list(v) for k_, v in page.src_joints.data.items()}
+    data["x"] = [x + 0.5 for x in data["x"]]
+    page.src_joints.data = data
+    assert page.state.values["crank"] == 0.07 and not page.design_msg.visible
     drag("A", 5.0)  # mm, at crank angle 0: the crank from 70 to 75 mm
     assert page.state.values["crank"] == pytest.approx(0.075)
     assert page.dim_fields["crank"].value == "75" and not page.design_msg.visible

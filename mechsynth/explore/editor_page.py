@@ -12,8 +12,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numpy as np
-
 from ..errors import MechanismError
 from .editor import STEP_TYPES, Draft, drag_joint, state_from_query, to_query
 from .history import History
@@ -111,6 +109,10 @@ class Editing:
         app.drag_tool.renderers = [*app.drag_tool.renderers, joints]
         app.drag_tool.description = "Drag a pivot or a joint"
         app.src_joints.on_change("data", self._on_joint_moved)
+        # the tool sends every source it edits (the joints' too when a pivot is dragged): a
+        # joint was dragged when the tool grabbed it (its selection reaches the server first)
+        self._grabbed = None
+        app.src_joints.selected.on_change("indices", self._on_grab)
         app.fig.on_event(Tap, self._on_tap)
 
         # the draft's points and links while it does not assemble
@@ -270,6 +272,10 @@ class Editing:
             self.app._later(self.redo)
 
     # ------------------------------------------------------------------ dragging
+    def _on_grab(self, attr, old, new):
+        if new:
+            self._grabbed = int(new[0])
+
     def _on_joint_moved(self, attr, old, new):
         """A moving joint dragged on the drawing: the dimensions it defines follow when the
         linkage still assembles over its cycle; otherwise it snaps back, saying why."""
@@ -287,11 +293,12 @@ class Editing:
             if len(xs) != len(shown["name"]):
                 app._later(app._draw_frame, k)  # a point deleted on the drawing comes back
             return
+        i, self._grabbed = self._grabbed, None
+        if i is None or i >= len(names):
+            return
         x0, x1, y0, y1 = meta["extent"]
         size = max(x1 - x0, y1 - y0, 1e-12)
-        moved = np.hypot(np.subtract(xs, shown["x"]), np.subtract(ys, shown["y"]))
-        i = int(np.argmax(moved)) if moved.size else 0
-        if not moved.size or not moved[i] > 1e-9 * size:
+        if not math.hypot(xs[i] - shown["x"][i], ys[i] - shown["y"][i]) > 1e-9 * size:
             return
         name = names[i]
         st = app.state
