@@ -137,6 +137,11 @@ def test_the_page_object_clicks_targets_and_poses_and_loads_solutions(page, path
     syn.click(-5.0, 7.5)
     assert page.poses_input.value.splitlines()[-1] == "-5, 7.5, 45"
     assert len(syn.src_poses.data["x"]) == n + 1
+    syn.drag(1.0, 2.0, 1.0, 2.0)  # no movement: nothing
+    assert len(page.poses_input.value.splitlines()) == n + 1
+    syn.drag(1.0, 2.0, 0.0, 3.0)  # up and to the left: a pose at the start at 135 deg
+    assert page.poses_input.value.splitlines()[-1] == "1, 2, 135"
+    assert syn.pose_angle.value == "135"
     syn.pose_angle.value = "north"
     syn.click(0.0, 0.0)
     assert "angle of a clicked pose, deg: 'north' is not a number" in page.synth_msg.object
@@ -298,7 +303,7 @@ def test_in_the_browser_clicked_points_ranked_path_generators_previewed_and_one_
 
 @pytest.mark.browser
 @pytest.mark.slow
-def test_in_the_browser_a_function_generator_and_clicked_poses(
+def test_in_the_browser_a_function_generator_and_clicked_and_dragged_poses(
     browser, server  # noqa: F811
 ):
     from playwright.sync_api import expect
@@ -337,6 +342,16 @@ def test_in_the_browser_a_function_generator_and_clicked_poses(
         expect(poses).to_have_value(re.compile(r", 30$"))  # the new line, at 30 deg
         x, y, a = (float(v) for v in poses.input_value().splitlines()[-1].split(","))
         assert (x, y, a) == (pytest.approx(0, abs=1), pytest.approx(100, abs=1), 30.0)
+        # a drag from (0, 100) mm up and to the right: a pose there at 45 deg
+        a, b = page.evaluate(CANVAS, [0, 100]), page.evaluate(CANVAS, [40, 140])
+        page.mouse.move(*a)
+        page.mouse.down()
+        page.mouse.move((a[0] + b[0]) / 2, (a[1] + b[1]) / 2, steps=4)
+        page.mouse.move(*b, steps=4)
+        page.mouse.up()
+        expect(poses).to_have_value(re.compile(r", 45$"), timeout=30_000)
+        x, y, a = (float(v) for v in poses.input_value().splitlines()[-1].split(","))
+        assert (x, y) == (pytest.approx(0, abs=2), pytest.approx(100, abs=2))
         # back to the function generator, loaded into the page
         page.get_by_text("Function (y = f(x))", exact=True).click()
         page.get_by_role("button", name="Load the function generator").click()

@@ -89,7 +89,7 @@ class SynthesisTab:
 
     def __init__(self, app):
         import panel as pn
-        from bokeh.events import Tap
+        from bokeh.events import PanEnd, PanStart, Tap
         from bokeh.models import Button, ColumnDataSource, CustomJS, Slider
         from bokeh.plotting import figure
 
@@ -138,6 +138,10 @@ class SynthesisTab:
         f.text("x", "y", text="label", source=self.src_points, x_offset=6, y_offset=-6,
                text_font_size="11px", name="synth-point-labels")  # fmt: skip
         f.on_event(Tap, self._on_tap)
+        # a drag on the motion generation's canvas: a pose at its start, along the drag
+        self._pan_from = None
+        f.on_event(PanStart, lambda e: setattr(self, "_pan_from", (float(e.x), float(e.y))))
+        f.on_event(PanEnd, self._on_pan_end)
         self.frame = Slider(start=0, end=1, value=0, step=1, title="preview frame",
                             show_value=False, sizing_mode="stretch_width", min_width=150,
                             name="synth-frame")  # fmt: skip
@@ -300,8 +304,8 @@ class SynthesisTab:
         )
         motion = pn.Column(
             pn.pane.HTML(
-                "A click on the canvas above adds a pose at the angle given here (or type the "
-                "poses below)."
+                "A click on the canvas above adds a pose at the angle given here, a drag a pose "
+                "at its start along the drag (or type the poses below)."
             ),
             self.pose_angle,
             motion,
@@ -356,6 +360,22 @@ class SynthesisTab:
 
     def _on_tap(self, event):
         self.app._later(self.click, float(event.x), float(event.y))
+
+    def _on_pan_end(self, event):
+        start, self._pan_from = self._pan_from, None
+        if start is not None:
+            self.app._later(self.drag, *start, float(event.x), float(event.y))
+
+    def drag(self, x0: float, y0: float, x1: float, y1: float):
+        """A drag on the canvas from ``(x0, y0)`` to ``(x1, y1)`` (display length unit): on
+        the motion generation, a pose at the start whose angle is the drag's direction (the
+        angle field follows, to a whole degree); elsewhere nothing (the canvas's pan tool is a
+        click away)."""
+        if self._task() != "motion" or (x1, y1) == (x0, y0):
+            return
+        # to a whole degree: a drag is not finer than that
+        self.pose_angle.value = f"{round(math.degrees(math.atan2(y1 - y0, x1 - x0)))}"
+        self.click(x0, y0)
 
     def click(self, x: float, y: float):
         """A click on the canvas at ``(x, y)`` (display length unit): a target point when the
