@@ -153,6 +153,13 @@ def test_the_page_object_clicks_targets_and_poses_and_loads_solutions(page, path
     assert "four-bars through the 6 points" in syn.path_msg.object
     meta = syn.src_meta.data["json"][0]
     assert '"n": 120' in meta and len(syn.src_frames.data["x:P"]) == 120
+    page.units_select.value = "si"  # the table and the preview in metres
+    assert "largest distance, m<" in syn.path_table.object
+    assert syn.src_frames.data["x:P"][0] == pytest.approx(res.solutions[0].trace([0.0])[0, 0])
+    page.units_select.value = "mm-deg"
+    assert syn.src_frames.data["x:P"][0] == pytest.approx(
+        res.solutions[0].trace([0.0])[0, 0] * 1e3
+    )
     syn.load_path()
     assert page.state.kind.title == "Path generation: solution 1"
     assert page.design is not None and page.trace_select.value == ["P"]

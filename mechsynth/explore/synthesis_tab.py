@@ -739,7 +739,14 @@ class SynthesisTab:
 
         _set_label(self.points_input, self._points_label())
         _set_label(self.fn_ground, self._ground_label())
-        self._draw_inputs()
+        # the results in the new units (the typed lists are read in them from now on)
+        if self._result is not None:
+            rank = self.path_pick.value
+            self.show_path(self._result, self._targets)
+            self.path_pick.value = rank
+        if self._fg is not None:
+            self.show_function(self._fg)
+        self.task_changed()
 
 
 # ------------------------------------------------------------------------------ helpers
