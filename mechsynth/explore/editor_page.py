@@ -137,6 +137,7 @@ class Editing:
         self.url = ColumnDataSource(dict(q=[""]), name="url-state")
         code = CustomJS(args=dict(keys=self.keys, url=self.url), code=KEYS_JS)
         app.src_meta.js_on_change("data", code)
+        app.fig.js_on_change("inner_width", code)  # the page's first layout: keys and address
         self.url.js_on_change("data", code)
 
         # widgets
