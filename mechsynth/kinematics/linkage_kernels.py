@@ -540,12 +540,12 @@ def linkage_kernel(linkage, wait: bool = True) -> LinkageKernel | None:
     the generator does not know.
 
     ``wait=False`` never blocks on a build: it returns the kernel when this process has it and
-    otherwise starts building it (loading it from the disk cache, or tracing and compiling it)
-    in a background thread and returns None at once, so that the caller evaluates on the
-    numpy model meanwhile and finds the kernel on a later call (:func:`kernel_pending` tells
-    a build under way). numba compiles one function at a time: a compilation the caller starts
-    meanwhile (another kernel's) waits for this one. A process waits at exit for a compilation
-    it started (its kernel then lands in the disk cache for the next one).
+    otherwise starts building it in a background thread and returns None at once, so that the
+    caller evaluates on the numpy model meanwhile and finds the kernel on a later call
+    (:func:`kernel_pending` tells a build under way). A kernel the disk cache lacks is compiled
+    there by another Python process (on another core, the caller's process keeping Python's
+    lock for its own work), then loaded by the thread. A process waits at exit for a build it
+    started (its kernel then lands in the disk cache for the next one).
     """
     from .compiled import numba_available
     from .linkage_groups import FollowerGroup
@@ -586,8 +586,15 @@ _FAILED: set = set()  # structures whose background build failed: not started ag
 
 def _build_behind(linkage, key) -> None:
     """A background build: the kernel remembered for the process, or on failure nothing but
-    the structure's failure (no background build again; a blocking call builds and raises)."""
+    the structure's failure (no background build again; a blocking call builds and raises).
+
+    A kernel the disk cache does not hold yet is compiled in another process (which writes it
+    there), this thread waiting for it without Python's lock: numba's compilation is mostly
+    Python, and in a thread it would hold that lock from the caller's own work several times
+    over. This process then loads it (in the thread)."""
     try:
+        if not is_compiled(linkage):
+            _compile_elsewhere(linkage)
         with _LOCK:
             _built(linkage, key)
     except Exception:  # noqa: BLE001 - a blocking call builds again and raises it
@@ -595,6 +602,36 @@ def _build_behind(linkage, key) -> None:
     finally:
         with _PENDING_LOCK:
             _PENDING.pop(key, None)
+
+
+_ELSEWHERE = """
+import pickle, sys
+from pathlib import Path
+from mechsynth.kinematics import linkage_kernels as lkk
+where = Path(sys.argv[1])
+lkk.cache_dir = lambda: where  # this very cache, whatever the environment says
+lkk.linkage_kernel(pickle.loads(sys.stdin.buffer.read()))
+"""
+
+
+def _compile_elsewhere(linkage) -> None:
+    """Compile ``linkage``'s kernel into the disk cache in a new Python process (nothing when
+    the linkage cannot be pickled or the process fails: the caller then compiles here)."""
+    import pickle
+    import subprocess
+
+    try:
+        data = pickle.dumps(linkage)
+    except Exception:  # noqa: BLE001 - a linkage holding a local function: compiled here
+        return
+    with contextlib.suppress(OSError, subprocess.SubprocessError):
+        subprocess.run(
+            [sys.executable, "-c", _ELSEWHERE, str(cache_dir())],
+            input=data,
+            capture_output=True,
+            check=False,
+            timeout=3600,
+        )
 
 
 def _built(linkage, key) -> LinkageKernel | None:
