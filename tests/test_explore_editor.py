@@ -192,6 +192,24 @@ def test_the_draft_follows_the_dimensions_changed_on_the_page():
         assert got[k] == pytest.approx(v, rel=1e-5)
 
 
+@pytest.mark.parametrize("key", ["linkage", "impact"])
+def test_a_linkages_tables_go_on_as_a_draft_with_the_pages_values(key):
+    st = State.default(key)  # the six-link (a guide through coordinates), the impact machine
+    d = Draft.from_tables(st.kind.file_data)  # (a guide through O, with its offset)
+    changed = {k: v * 1.01 if v else 0.001 for k, v in st.values.items()}
+    from mechsynth.synthesis.linkage_file import linkage_from_data
+
+    got = linkage_from_data(d.with_values(changed).tables()).parameters
+    for k, v in changed.items():
+        assert got[k] == pytest.approx(v, rel=1e-5), k
+    more = d.attach("B", "K", 0.05, 0.05)  # a point on the link DB (K is on it too)
+    lk, message = more.check()
+    assert message is None and more.steps[-1]["point"] == "C"
+    assert lk.default_output == "N"  # the file's output kept
+    sk = lk.sketch(np.array([0.0]))
+    assert np.ravel(sk.points["C"][0])[0] == pytest.approx(0.05, abs=1e-6)
+
+
 def test_a_draft_says_what_is_missing_or_why_it_does_not_assemble():
     d = Draft()
     assert d.check() == (None, "click on the drawing to add a ground point")
@@ -519,3 +537,24 @@ def test_browser_the_address_carries_the_design_and_a_reload_restores_it(browser
         expect(pg.locator(".design-message")).to_contain_text("crank must be a number")
     finally:
         pg.close()
+
+
+def test_page_goes_on_building_the_six_link():
+    pytest.importorskip("panel")
+    from mechsynth.explore.app import Explorer
+
+    page = Explorer(State.default("linkage", units="mm-deg"))
+    ed = page.editing
+    assert ed.edit_button.visible
+    page._on_field("OA", "32")
+    ed.edit_linkage()
+    assert not ed.edit_button.visible and ed.building
+    ed.step.value = "attach"
+    ed._show_draft()
+    ed.p1.value, ed.p2.value = "B", "K"
+    ed.click(50.0, 50.0)
+    assert page.state.kind.title == "Linkage six-link, edited in the page"
+    assert page.dim_fields["C_left"].visible and page.dim_fields["OA"].value == "32"
+    assert 'point = "C"' in ed.toml.object and "length = 0.032" in ed.toml.object
+    ed.undo()
+    assert page.state.kind.title == "Linkage: six-link of paper 001"

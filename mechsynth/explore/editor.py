@@ -239,6 +239,7 @@ class Draft:
 
     steps: tuple[dict, ...] = ()
     name: str = "built in the page"
+    output: str | None = None  # the linkage's main output point, when one was given
 
     # -------------------------------------------------------------- names
     @property
@@ -258,7 +259,10 @@ class Draft:
         return any(s["type"] in ("crank", "slider") for s in self.steps)
 
     def _new_ground(self) -> str:
-        return f"O{len(self.ground_points) + 1}"
+        used, i = set(self.points), len(self.ground_points) + 1
+        while f"O{i}" in used:
+            i += 1
+        return f"O{i}"
 
     def _new_point(self) -> str:
         used = set(self.points)
@@ -398,7 +402,10 @@ class Draft:
         """The linkage-file tables (``[linkage]``, ``[ground]``, ``[[group]]``, SI numbers)."""
         ground = {s["point"]: list(s["xy"]) for s in self.steps if s["type"] == "ground"}
         groups = [{k: v for k, v in s.items()} for s in self.steps if s["type"] != "ground"]
-        out = {"linkage": {"name": self.name}, "ground": ground, "group": groups}
+        head = {"name": self.name}
+        if self.output and self.output in self.points:
+            head["output"] = self.output
+        out = {"linkage": head, "ground": ground, "group": groups}
         return {k: v for k, v in out.items() if v}
 
     def toml(self) -> str:
@@ -427,15 +434,23 @@ class Draft:
 
     def kind(self):
         """The page's entry for this draft (a linkage with its dimensions)."""
-        kind = linkage_kind(self.tables(), title=f"Linkage {self.name}")
+        title = f"Linkage {self.name}"
+        if self.name != Draft.name:  # a linkage opened or found elsewhere, built on here
+            title += ", edited in the page"
+        kind = linkage_kind(self.tables(), title=title)
         kind.trace = tuple(p for p in self.moving_points[-1:])
         return kind
 
     def places(self) -> dict[str, np.ndarray]:
         """Every point's place (m) at the input's start, as far as the draft solves."""
         from ..synthesis.linkage_file import linkage_from_data
+        from ..synthesis.problem_file import parse_quantity
 
-        out = {s["point"]: np.array(s["xy"], float) for s in self.steps if s["type"] == "ground"}
+        out = {
+            s["point"]: np.array([parse_quantity(c, "ground point", "m") for c in s["xy"]])
+            for s in self.steps
+            if s["type"] == "ground" and not any(isinstance(c, dict) for c in s["xy"])
+        }
         groups = [s for s in self.steps if s["type"] != "ground"]
         if not groups:
             return out
@@ -449,11 +464,15 @@ class Draft:
         return out
 
     def with_values(self, values: Mapping[str, float]) -> Draft:
-        """The draft with the dimensions of the linkage it builds set to ``values`` (by the
-        default parameter names of :class:`~mechsynth.kinematics.Linkage`), so that a
-        dimension changed on the page is in the file."""
+        """The draft with the dimensions of the linkage it builds set to ``values`` (SI; by
+        their parameter names: a named dimension's, else the default of
+        :class:`~mechsynth.kinematics.Linkage`), so that a dimension changed on the page is in
+        the file."""
 
-        def v(name, old):
+        def v(old, name):
+            if isinstance(old, dict) and "name" in old:  # {name = "r", value = ...}
+                key = str(old["name"])
+                return dict(old, value=_r6(values[key])) if key in values else old
             return _r6(values[name]) if name in values else old
 
         steps = []
@@ -461,31 +480,52 @@ class Draft:
             s = json.loads(json.dumps(s))
             t, p = s["type"], s.get("point")
             if t == "ground":
-                s["xy"] = [v(f"{p}_x", s["xy"][0]), v(f"{p}_y", s["xy"][1])]
+                s["xy"] = [v(s["xy"][0], f"{p}_x"), v(s["xy"][1], f"{p}_y")]
             elif t == "crank":
-                s["length"] = v(f"{s['about']}{p}", s["length"])
-                s["phase"] = v("phase", s["phase"])
+                s["length"] = v(s["length"], f"{s['about']}{p}")
+                s["phase"] = v(s.get("phase", 0.0), "phase")
             elif t == "rrr":
-                s["first"][1] = v(f"{s['first'][0]}{p}", s["first"][1])
-                s["second"][1] = v(f"{s['second'][0]}{p}", s["second"][1])
+                s["first"][1] = v(s["first"][1], f"{s['first'][0]}{p}")
+                s["second"][1] = v(s["second"][1], f"{s['second'][0]}{p}")
             elif t == "rrp":
-                s["rod"][1] = v(f"{s['rod'][0]}{p}", s["rod"][1])
+                s["rod"][1] = v(s["rod"][1], f"{s['rod'][0]}{p}")
             elif t == "attach":
-                s["along"] = v(f"{p}_along", s["along"])
-                s["left"] = v(f"{p}_left", s["left"])
+                s["along"] = v(s.get("along", 0.0), f"{p}_along")
+                s["left"] = v(s.get("left", 0.0), f"{p}_left")
             elif t == "rpr":
-                offset = v(f"{s['link']}_offset", s.get("offset", 0.0))
+                offset = v(s.get("offset", 0.0), f"{s['link']}_offset")
                 if offset or "offset" in s:
                     s["offset"] = offset
             if t in ("rrp", "slider"):
                 g = s["guide"]
-                g["through"] = [
-                    v(f"{p}_guide_x", g["through"][0]),
-                    v(f"{p}_guide_y", g["through"][1]),
-                ]
-                g["angle"] = v(f"{p}_guide_angle", g["angle"])
+                through = g.get("through")
+                if isinstance(through, list) and not all(
+                    isinstance(c, str) and c.isidentifier() for c in through
+                ):  # coordinates (a pair of point names is a link)
+                    g["through"] = [
+                        v(through[0], f"{p}_guide_x"),
+                        v(through[1], f"{p}_guide_y"),
+                    ]
+                if "offset" in g or f"{p}_guide_offset" in values:
+                    g["offset"] = v(g.get("offset", 0.0), f"{p}_guide_offset")
+                g["angle"] = v(g["angle"], f"{p}_guide_angle")
             steps.append(s)
         return replace(self, steps=tuple(steps))
+
+    @classmethod
+    def from_tables(cls, tables: Mapping) -> Draft:
+        """The draft of a linkage's tables (``[linkage]``, ``[ground]``, ``[[group]]``, as in
+        a linkage file), to go on building it."""
+        tables = json.loads(json.dumps(dict(tables)))
+        steps = [
+            {"type": "ground", "point": str(k), "xy": list(xy)}
+            for k, xy in (tables.get("ground") or {}).items()
+        ]
+        steps += [dict(g) for g in tables.get("group") or []]
+        head = tables.get("linkage") or {}
+        return cls(
+            steps=tuple(steps), name=str(head.get("name", "from a file")), output=head.get("output")
+        )
 
 
 def _finite(values, what):

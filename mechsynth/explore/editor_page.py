@@ -147,6 +147,8 @@ class Editing:
         self.redo_button.on_click(lambda e: app._later(self.redo))
         self.new_button = _widget(pn.widgets.Button, "New linkage", width=110)
         self.new_button.on_click(lambda e: app._later(self.new_linkage))
+        self.edit_button = _widget(pn.widgets.Button, "Edit this linkage", width=140)
+        self.edit_button.on_click(lambda e: app._later(self.edit_linkage))
         self.stop_button = _widget(pn.widgets.Button, "Stop building", width=120, visible=False)
         self.stop_button.on_click(lambda e: app._later(self.stop))
         self.step = _widget(
@@ -176,7 +178,13 @@ class Editing:
         import panel as pn
 
         return pn.Column(
-            pn.FlexBox(self.undo_button, self.redo_button, self.new_button, self.stop_button),
+            pn.FlexBox(
+                self.undo_button,
+                self.redo_button,
+                self.new_button,
+                self.edit_button,
+                self.stop_button,
+            ),
             pn.FlexBox(self.step, self.p1, self.p2, self.angle, self.travel),
             pn.FlexBox(self.delete_button, self.download),
             self.message,
@@ -197,10 +205,16 @@ class Editing:
         if not self._restoring and (cur is None or not cur.same(st, self.draft)):
             self.history.record(_Snap(_copy(st), self.draft), key=changed)
         self._buttons()
+        self._show_edit()
         try:
             self.url.data = dict(q=[to_query(st)])
         except MechanismError:
             pass
+
+    def _show_edit(self):
+        st = self.app.state
+        editing = self.building and self.draft is not None and st.kind is self._draft_kind
+        self.edit_button.visible = st.kind.file_data is not None and not editing
 
     def _record_draft(self):
         self.history.record(_Snap(_copy(self.app.state), self.draft))
@@ -336,6 +350,19 @@ class Editing:
         self._show_draft()
         self._record_draft()
 
+    def edit_linkage(self):
+        """Go on building the page's linkage (a file's, the six-link, one found by synthesis):
+        clicks add to its groups."""
+        st = self.app.state
+        if st.kind.file_data is None:
+            self._say(f"{st.kind.title} is not a linkage: start a new one", bad=True)
+            return
+        self.draft = Draft.from_tables(st.kind.file_data).with_values(st.values)
+        self._draft_kind = st.kind
+        self.building = True
+        self._show_draft("clicks add to this linkage")
+        self._record_draft()
+
     def stop(self):
         """Clicks on the drawing no longer add elements (the draft stays)."""
         self.building = False
@@ -445,6 +472,7 @@ class Editing:
         d = self.draft
         on = self.building and d is not None
         self.step.visible = on
+        self._show_edit()
         self.stop_button.visible = on
         self.delete_button.visible = d is not None
         self.download.visible = d is not None
