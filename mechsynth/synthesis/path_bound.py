@@ -24,6 +24,10 @@ So the error is a function of eight numbers ``x = (O1, W, O2, r3, r4)``, and
   moment, rising as the boxes are refined (it tends to the relaxed minimum: the enclosures
   shrink to points).
 
+The interval arithmetic is ordinary floating point (no outward rounding); every enclosure is
+widened by ``1e-12`` in units of the targets' rms radius, far above the round-off of these few
+operations.
+
 Its reach: eight dimensions and first-order enclosures close the gap when the region is small
 (a neighbourhood of a solution, the lengths to tens of per cent); over the default bounds of
 :func:`~mechsynth.path_generation` (lengths up to ten times the targets' extent) the tree does
