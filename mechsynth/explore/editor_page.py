@@ -214,15 +214,15 @@ class Editing:
     def _show_edit(self):
         st = self.app.state
         editing = self.building and self.draft is not None and st.kind is self._draft_kind
-        self.edit_button.visible = st.kind.file_data is not None and not editing
+        _set(self.edit_button, visible=st.kind.file_data is not None and not editing)
 
     def _record_draft(self):
         self.history.record(_Snap(_copy(self.app.state), self.draft))
         self._buttons()
 
     def _buttons(self):
-        self.undo_button.disabled = not self.history.can_undo
-        self.redo_button.disabled = not self.history.can_redo
+        _set(self.undo_button, disabled=not self.history.can_undo)
+        _set(self.redo_button, disabled=not self.history.can_redo)
 
     def undo(self):
         self._go(self.history.undo)
@@ -522,6 +522,13 @@ class Editing:
         if self.draft is None:
             return io.BytesIO(b"")
         return self.app._save("linkage.toml", self.draft.toml().encode())
+
+
+def _set(widget, **values):
+    """Set a widget's parameters that change (a set, even to the same value, costs a message)."""
+    changed = {k: v for k, v in values.items() if getattr(widget, k) != v}
+    if changed:
+        widget.param.update(**changed)
 
 
 def _grid(span: float) -> float:
