@@ -38,6 +38,7 @@ def _at(state, values, point, phi):
         ("linkage", "B", ("AB", "DB")),
         ("four-bar", "B", ("coupler", "rocker")),
         ("slider-crank", "B", ("rod", "offset")),
+        ("beam-pump", "B", ("P", "C")),
     ],
 )
 def test_a_dragged_joint_lands_where_it_is_dropped_changing_only_its_dimensions(key, point, dims):
