@@ -44,6 +44,7 @@ _LAZY = {
     "burmester": "synthesis.motion_generation",
     "motion_generation": "synthesis.motion_generation",
     "path_generation": "synthesis.path_generation",
+    "path_bound": "synthesis.path_bound",
     "nomogram": "nomograms",
 }
 _SUBPACKAGES = (
@@ -93,6 +94,7 @@ __all__ = [
     "burmester",
     "motion_generation",
     "path_generation",
+    "path_bound",
     "nomogram",
     "MechanismError",
     "SolverError",
