@@ -19,6 +19,25 @@ from mechsynth.explore.model import State
 from mechsynth.synthesis.path_cases import exact_case
 
 
+def exact_result():
+    """A path result made without a search: exact_case's crank-rocker at a tenth of its size
+    (crank 100 mm) as the one solution through six points of its coupler curve."""
+    from mechsynth.synthesis.path_generation import evaluated
+    from mechsynth.synthesis.path_result import PathResult
+
+    _, design, angles = exact_case(6)
+    vals = {k: v * (1 if k == "angle" else 0.1) for k, v in design.items()}
+    sol = evaluated(vals, "open", angles, np.zeros((6, 2)))
+    t = sol.trace(angles)
+    sol = evaluated(vals, "open", angles, t)
+    res = PathResult(
+        targets=t, best=sol, solutions=(sol,), timing="free", objective="squares", closed=True,
+        min_transmission=math.radians(30), starts=1, distinct=1, status="optimal", seconds=0.0,
+        error_definition="",
+    )  # fmt: skip
+    return sm.PathJob(t, "free", math.radians(30), 1), res
+
+
 @pytest.fixture(scope="module")
 def path_result():
     """The page's default targets (six points on a known crank-rocker's coupler curve, mm)
@@ -52,6 +71,7 @@ def test_points_and_pairs_are_read_in_the_pages_units_and_bad_lines_named():
         sm.PathJob(pts, "free", math.radians(95))
 
 
+@pytest.mark.slow
 def test_a_path_search_reaches_the_points_and_its_solution_loads_as_the_same_linkage(
     path_result,
 ):
@@ -119,7 +139,7 @@ def page():
     return Explorer(State.default("slider-crank", units="mm-deg"))
 
 
-def test_the_page_object_clicks_targets_and_poses_and_loads_solutions(page, path_result):
+def test_the_page_object_clicks_targets_and_poses_and_loads_solutions(page):
     syn = page.synthesis
     assert len(syn.src_points.data["x"]) == 6  # the default points on the canvas
     syn.points_input.value = ""
@@ -146,11 +166,12 @@ def test_the_page_object_clicks_targets_and_poses_and_loads_solutions(page, path
     syn.click(0.0, 0.0)
     assert "angle of a clicked pose, deg: 'north' is not a number" in page.synth_msg.object
     # a finished search: ranked in the table, the best previewed, loaded as the page's design
-    job, res, _ = path_result
+    job, res = exact_result()
+    assert res.solutions[0].max_distance < 1e-12
     syn.tasks.active = 1
     syn.show_path(res, job.targets)
     assert syn.path_table.object.count("<tr>") == len(res.solutions) + 1
-    assert "four-bars through the 6 points" in syn.path_msg.object
+    assert "1 four-bar through the 6 points" in syn.path_msg.object
     meta = syn.src_meta.data["json"][0]
     assert '"n": 120' in meta and len(syn.src_frames.data["x:P"]) == 120
     page.units_select.value = "si"  # the table and the preview in metres
@@ -249,15 +270,18 @@ def test_in_the_browser_clicked_points_ranked_path_generators_previewed_and_one_
         page.get_by_text("Synthesis", exact=True).click()
         page.get_by_text("Path (points)", exact=True).click()
         points = page.get_by_label("Target points of the coupler point, one a line: x, y (mm)")
-        expect(points).to_have_value(sm.DEFAULT_POINTS)
-        page.wait_for_timeout(500)
-        assert len(_data(page, "synth-points", "x")) == 6  # drawn on the canvas
+        expect(points).to_have_value(sm.DEFAULT_POINTS, timeout=30_000)
+        page.wait_for_function(  # drawn on the canvas
+            "() => Bokeh.documents[0].get_model_by_name('synth-points').data.x.length === 6",
+            timeout=20_000,
+        )
         # a click on the canvas at (0, 100) mm adds a point there, drawn as the 7th
         page.mouse.click(*page.evaluate(CANVAS, [0, 100]))
         page.wait_for_function(
             "() => Bokeh.documents[0].get_model_by_name('synth-points').data.x.length === 7",
             timeout=20_000,
         )
+        expect(points).to_have_value(re.compile(r"36\.55\n[^\n]+$"), timeout=30_000)  # a 7th
         x, y = (float(v) for v in points.input_value().splitlines()[-1].split(","))
         assert (x, y) == (pytest.approx(0, abs=0.5), pytest.approx(100, abs=0.5))
         # many starts, then Cancel: the search's process ends, no zombie behind it
@@ -303,7 +327,7 @@ def test_in_the_browser_clicked_points_ranked_path_generators_previewed_and_one_
         page.wait_for_timeout(800)
         n, gap = page.evaluate(GAP)
         assert n == 6 and gap < 3.0  # mm: within the spacing of the 180 frames sent
-        expect(page.get_by_label("O1A, mm", exact=True)).to_be_visible()
+        expect(page.get_by_label("O1A, mm", exact=True)).to_be_visible(timeout=30_000)
     finally:
         page.close()
 
@@ -346,7 +370,7 @@ def test_in_the_browser_a_function_generator_and_clicked_and_dragged_poses(
             f"() => Bokeh.documents[0].get_model_by_name('synth-poses').data.x.length === {n + 1}",
             timeout=20_000,
         )
-        expect(poses).to_have_value(re.compile(r", 30$"))  # the new line, at 30 deg
+        expect(poses).to_have_value(re.compile(r", 30$"), timeout=30_000)  # at 30 deg
         x, y, a = (float(v) for v in poses.input_value().splitlines()[-1].split(","))
         assert (x, y, a) == (pytest.approx(0, abs=1), pytest.approx(100, abs=1), 30.0)
         # a drag from (0, 100) mm up and to the right: a pose there at 45 deg
@@ -435,7 +459,7 @@ def test_in_the_browser_a_file_of_18_dimensions_opened_later_shows_every_row(
         expect(page.get_by_label("BC, mm", exact=True)).to_have_value("100", timeout=10_000)
         for d in dims:
             unit = "deg" if d.unit == "rad" else "mm"
-            expect(page.get_by_label(f"{d.name}, {unit}", exact=True)).to_be_visible()
+            expect(page.get_by_label(f"{d.name}, {unit}", exact=True)).to_be_visible(timeout=30_000)
         # and a row past the 16th works: its field moves the design
         before = page.evaluate("() => Bokeh.documents[0].get_model_by_name('meta').data.json[0]")
         page.get_by_label("EC, mm", exact=True).fill("130")

@@ -594,7 +594,8 @@ class SynthesisTab:
         html.append("</table>")
         self.path_table.object = "".join(html)
         self.path_msg.object = (
-            f"<span id='path-state'>{len(rows)} four-bars through the {len(targets)} points "
+            f"<span id='path-state'>{len(rows)} four-bar{'s' if len(rows) != 1 else ''} "
+            f"through the {len(targets)} points "
             f"({res.status}, {res.seconds:.1f} s, {res.starts} starts), best first: pick one to "
             "preview it over the points, load it to edit, optimize or export it</span>"
         )
