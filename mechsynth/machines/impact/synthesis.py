@@ -360,9 +360,8 @@ def synthesize(machine, starts=3, x0=None, **options) -> dict:
         if walls:
             closest = min(walls, key=lambda c: c.value)
             out["check"]["housing_clearance_m"] = float(closest.value)
-            out["check"]["housing_closest"] = closest.name.split(" from the housing's ")[0] + (
-                " to the " + closest.name.split(" from the housing's ")[1]
-            )
+            joint, wall = closest.name.split(" >=")[0].split(" from the housing's ")
+            out["check"]["housing_closest"] = f"{joint} to the {wall}"
     return out
 
 
