@@ -455,21 +455,22 @@ def test_in_the_browser_a_file_of_18_dimensions_opened_later_shows_every_row(
     try:
         page.locator(".upload input[type=file]").set_input_files(str(path))
         # the rows beyond the ones made with the page: shown, labelled, with the file's values
-        expect(page.get_by_label("EC, mm", exact=True)).to_have_value("123", timeout=60_000)
-        expect(page.get_by_label("BC, mm", exact=True)).to_have_value("100", timeout=10_000)
+        expect(page.get_by_label("EC, mm", exact=True)).to_have_value("123", timeout=120_000)
+        expect(page.get_by_label("BC, mm", exact=True)).to_have_value("100", timeout=60_000)
         for d in dims:
             unit = "deg" if d.unit == "rad" else "mm"
-            expect(page.get_by_label(f"{d.name}, {unit}", exact=True)).to_be_visible(timeout=30_000)
+            field = page.get_by_label(f"{d.name}, {unit}", exact=True)
+            expect(field).to_be_visible(timeout=120_000)
         # and a row past the 16th works: its field moves the design
         before = page.evaluate("() => Bokeh.documents[0].get_model_by_name('meta').data.json[0]")
         page.get_by_label("EC, mm", exact=True).fill("130")
         page.get_by_label("EC, mm", exact=True).press("Enter")
         page.wait_for_function(
             "(b) => Bokeh.documents[0].get_model_by_name('meta').data.json[0] !== b",
-            arg=before, timeout=30_000,
+            arg=before, timeout=120_000,
         )  # fmt: skip
         _select(page, "Mechanism", "Four-bar")  # fewer dimensions: the rest hidden
-        expect(page.get_by_label("ground, mm", exact=True)).to_be_visible(timeout=30_000)
+        expect(page.get_by_label("ground, mm", exact=True)).to_be_visible(timeout=120_000)
         assert page.get_by_label("EC, mm", exact=True).count() == 0
     finally:
         page.close()

@@ -316,7 +316,7 @@ class SynthesisTab:
             ("Motion (poses)", motion),
             ("Path (points)", path),
             ("Function (y = f(x))", function),
-            dynamic=False,
+            dynamic=True,  # sent to the browser when first shown: the page is ready sooner
             sizing_mode="stretch_width",
         )
         self.tasks.param.watch(lambda e: self.app._later(self.task_changed), "active")
