@@ -32,6 +32,7 @@ memory flat across a front; :func:`cache_info` counts the builds.
 
 from __future__ import annotations
 
+import weakref
 from collections import OrderedDict
 from dataclasses import dataclass
 from typing import Any
@@ -277,14 +278,19 @@ def _structure(problem, n_extra: int) -> _Structure:
 
 def _trim_cache() -> None:
     """Drop the least recently used structures beyond :data:`CACHE_SIZE` or
-    :data:`CACHE_INSTRUCTIONS` (never the newest)."""
+    :data:`CACHE_INSTRUCTIONS`, never the newest nor one a live :class:`Transcription` uses
+    (a solve in progress holds it: dropping it would free nothing and build it again)."""
+    count = len(_STRUCTURES)
+    weight = sum(e.weight for e in _STRUCTURES.values())
     dropped = False
-    while len(_STRUCTURES) > 1 and (
-        len(_STRUCTURES) > CACHE_SIZE
-        or sum(e.weight for e in _STRUCTURES.values()) > CACHE_INSTRUCTIONS
-    ):
-        _STRUCTURES.popitem(last=False)
-        dropped = True
+    for key in list(_STRUCTURES)[:-1]:
+        if count <= CACHE_SIZE and weight <= CACHE_INSTRUCTIONS:
+            break
+        entry = _STRUCTURES[key]
+        if len(entry.views):
+            continue
+        del _STRUCTURES[key]
+        count, weight, dropped = count - 1, weight - entry.weight, True
     if dropped:
         _release_memory()
 
@@ -451,6 +457,7 @@ class _Structure:
         self.solvers: dict[Any, Any] = {}
         self.derivatives: dict | None = None  # of the first IPOPT build, for the others
         self.weight = 0  # instructions of the built IPOPT Hessian (memory, for the cache)
+        self.views: weakref.WeakSet = weakref.WeakSet()  # the live transcriptions using it
 
     def solver(self, method: str, options: dict | None = None):
         """The cached CasADi solver ``method`` ("ipopt") or casadi Functions ("functions")."""
@@ -538,6 +545,7 @@ class Transcription(NumericForms):
         self.n_extra = int(n_extra)
         s = _structure(problem, self.n_extra)
         self.structure = s
+        s.views.add(self)
         # the structure's forms, so its epigraph atoms are this transcription's atoms
         self.objective, self.constraints = s.objective, s.constraints
         for name in (
