@@ -304,3 +304,25 @@ def test_path_generation_arguments(n):
         )
 
     _run(n, st.tuples(hostile, hostile, hostile), body)
+
+
+@pytest.mark.parametrize("n", SIZES)
+def test_path_bound_arguments(n):
+    def body(a, b, c, d):
+        check(
+            "path_bound",
+            lambda: ms.path_bound(
+                [(0, 0), (1, 0.2), (2, 0), (1, -0.6)],
+                [0.0, 1.0, 2.0, a],
+                max_boxes=b,
+                time_limit=0.5,
+                rtol=c,
+                best=d,
+            ).lower,
+        )
+
+    angle = st.one_of(st.floats(2.5, 6.0), hostile)
+    boxes = st.one_of(st.integers(1, 300), hostile)
+    rtol = st.one_of(st.floats(1e-4, 0.5), hostile)
+    best = st.one_of(st.none(), st.floats(0.0, 2.0), hostile)
+    _run(n, st.tuples(angle, boxes, rtol, best), body)
