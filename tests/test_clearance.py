@@ -97,3 +97,12 @@ def test_bad_arguments_are_named():
         ob.clearance("Z", circle=("O", 0.1)).from_motion(sc, sc.motion(PHI))
     with pytest.raises(ms.MechanismError, match="not a parameter of the design"):
         ob.clearance("B", circle=("O", "nope")).from_motion(sc, sc.motion(PHI))
+
+
+def test_the_measure_stays_callable_after_a_machine_imports_its_module():
+    # a submodule named like the lazy public name would replace it on the package (ob.clearance
+    # became the module once the impact machine's synthesis was imported)
+    import mechsynth.machines.impact.synthesis  # noqa: F401
+    import mechsynth.machines.pumping_unit.measures  # noqa: F401
+
+    assert callable(ob.clearance) and callable(ob.link_separation)

@@ -46,8 +46,8 @@ _LAZY = {
     "peak_driving_force": "forces",
     "rms_torque": "forces",
     "reaction_affine_map": "forces",
-    "clearance": "clearance",
-    "link_separation": "clearance",
+    "clearance": "clearances",
+    "link_separation": "clearances",
 }
 __all__ += list(_LAZY)
 

@@ -16,7 +16,7 @@ CasADi expressions (certified :class:`~mechsynth.synthesis.Problem`):
 * :func:`peak_transverse_force` -- the mechanism's load on the housing across the guide;
 * :func:`peak_joint_force` -- the largest joint reaction;
 * :func:`housing_clearances` -- the moving joints B and K kept inside the machine's case
-  (:data:`HOUSING`), by :func:`mechsynth.objectives.clearance.clearance`: on by default.
+  (:data:`HOUSING`), by :func:`mechsynth.objectives.clearances.clearance`: on by default.
 
 The forces are the linkage's general kinetostatics (:func:`mechsynth.dynamics.kinetostatics`,
 solved symbolically group by group), the model every other force figure of the package uses.
@@ -35,7 +35,7 @@ from ...dynamics.loads import Gravity
 from ...kinematics import ops
 from ...objectives import kinematic as ob
 from ...objectives.base import CycleMeasure
-from ...objectives.clearance import clearance
+from ...objectives.clearances import clearance
 from ...units import deg
 from .design import MASSES, inertias_for
 from .forces import housing_load
@@ -175,7 +175,7 @@ _FAR = 1.0
 def housing_clearances(housing=None, points=("B", "K")) -> list:
     """Constraints keeping ``points`` at least ``housing["boss"]`` (m) inside the case
     :data:`HOUSING` (or ``housing``, a dict of the same keys): one
-    :func:`~mechsynth.objectives.clearance.clearance` per point and wall, the signed distance
+    :func:`~mechsynth.objectives.clearances.clearance` per point and wall, the signed distance
     of the point from the wall (positive inside), certified over the continuous crank angle
     like every peak."""
     from ...errors import MechanismError

@@ -45,7 +45,7 @@ def rod_clearance() -> CycleMeasure:
     ``rod_clearance() >= 0.3``."""
     import numpy as np
 
-    from ...objectives.clearance import clearance
+    from ...objectives.clearances import clearance
 
     return clearance("PR", circle=("O1", "crank"), direction=np.pi / 2, name="rod_clearance")
 

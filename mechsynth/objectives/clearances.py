@@ -102,7 +102,7 @@ def clearance(
     Examples
     --------
     >>> import mechsynth as ms
-    >>> from mechsynth.objectives.clearance import clearance
+    >>> from mechsynth.objectives.clearances import clearance
     >>> fb = ms.FourBar(crank=1.0, coupler=4.3, rocker=3.0, ground=5.2)
     >>> c = clearance("B", circle=("O1", "crank"))   # B outside the crank circle
     >>> round(float(c.from_motion(fb, fb.motion(ms.cycle(720)))), 4)
