@@ -38,6 +38,7 @@ def result(tmp_path_factory):
 def test_json_schema(result):
     res, _ = result
     data = json.loads(dumps(res.data))
+    assert data["success"] is True  # no synthesis asked for: nothing failed
     six = data["six_link"]
     assert [e["rho_deg"] for e in six] == pytest.approx([57.0, 90.0, 123.0])
     for e in six:

@@ -319,7 +319,12 @@ def _run(out, o, stages):
     )
     lines.extend(_findings_lines(fnd))
     lines.append(f" run time {time.perf_counter() - t0:.1f} s")
+    # the run succeeded unless the synthesis (when asked for) failed or no front point solved
+    success = synth is None or bool(synth["optimum"]["success"]) and (
+        synth["pareto"] is None or any(q["success"] for q in synth["pareto"]["points"])
+    )
     data = {
+        "success": bool(success),
         "representative": {
             "sources": SOURCES,
             "masses": {k: v for k, v in MASSES.items()},
@@ -847,7 +852,7 @@ def _write_findings(out, o, phi, cyc, f):
             kw = dict(color=PALETTE[(k + 1) % 8], ls=LINESTYLES[k % len(LINESTYLES)])
             axes[0].plot(rd, j * 1e3, label=names.get(b, b), **kw)
             axes[1].plot(rd, red["gravity"][b], label=names.get(b, b), **kw)
-        axes[1].plot(rd, red["gravity_total"], color="k", lw=1, label="sum")
+        axes[1].plot(rd, red["gravity_total"], color="k", lw=2.6, label="sum")
         g = f["gravity"]
         axes[1].axvspan(g["blow_deg"] - g["assist_arc_deg"], g["blow_deg"], color="0.9")
         axes[1].axvline(g["blow_deg"], color="0.4", ls=":", lw=1)
