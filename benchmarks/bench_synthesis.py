@@ -13,8 +13,8 @@ Problems:
 Reported for each: one certified IPOPT start and the default 8 starts, the first solve of a new
 Problem (it builds the CasADi transcription and solver; CasADi already imported) and the median
 of repeated solves (the solver is cached per problem structure), with the IPOPT iterations of
-every start (``Result.certification.iterations``) and of the re-solves after grid refinement; for the
-slider-crank also differential evolution with and without the certified polish.
+every start (``Result.certification.iterations``) and of the re-solves after grid refinement;
+for the slider-crank also differential evolution with and without the certified polish.
 
 ``--iterations`` prints the IPOPT iterations of every reference problem
 (:mod:`mechsynth.synthesis.reference`) and every example problem file
