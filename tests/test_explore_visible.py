@@ -389,11 +389,17 @@ def test_dragging_a_fixed_pivot_moves_it_or_snaps_back_saying_why(page):
     _select(page, "Mechanism", "Impact machine (paper 001, ms.six_link)")
     expect(page.get_by_label("D_x, mm", exact=True)).to_have_value("80", timeout=30_000)
     page.wait_for_timeout(1000)
-    _drag(page, "D", -6)  # a few pixels: the six-link still assembles
-    page.wait_for_function(
-        "() => Bokeh.documents[0].get_model_by_name('ground').data_source.data.x[1] < 80",
-        timeout=20_000,
-    )
+    moved_js = "() => Bokeh.documents[0].get_model_by_name('ground').data_source.data.x[1] < 80"
+    # a few pixels: the six-link still assembles. The first drag right after the six-link is
+    # drawn is sometimes not taken by the browser's drag tool (2 runs in 4, also before the
+    # joints joined the tool): a user drags again, and so does the test, once.
+    _drag(page, "D", -6)
+    try:
+        page.wait_for_function(moved_js, timeout=10_000)
+    except Exception:  # playwright's TimeoutError
+        page.wait_for_timeout(1000)
+        _drag(page, "D", -6)
+        page.wait_for_function(moved_js, timeout=20_000)
     page.wait_for_timeout(800)
     moved = page.evaluate(SCREEN, "D")[2]
     assert float(page.get_by_label("D_x, mm", exact=True).input_value()) == pytest.approx(
