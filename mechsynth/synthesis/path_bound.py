@@ -301,10 +301,10 @@ def _box_bounds(lo, hi, sigma, turns, targets, linear=True, split=False):
     return (lb, where) if split else lb
 
 
-def relaxed_error(x, sigma, turns, targets):
-    """Exact error ``(K,)`` of the designs ``x (K, 8)`` (:data:`COORDS`) on branches ``sigma``
-    with the best coupler point, and that point ``(K, 2)`` (``u`` along A -> B, ``v`` to its
-    left); ``inf`` where some target cannot be assembled."""
+def coupler_frame(x, sigma, turns, targets):
+    """The targets in the coupler's frame ``(K, n, 2)`` (``u`` along A -> B, ``v`` to its
+    left) for the designs ``x (K, 8)`` (:data:`COORDS`) on branches ``sigma``, and whether every
+    target can be assembled ``(K,)``."""
     a = x[:, None, 0:2] + _rot(turns, x[:, 2:4])
     dv = x[:, None, 4:6] - a
     d = np.hypot(dv[..., 0], dv[..., 1])
@@ -315,7 +315,14 @@ def relaxed_error(x, sigma, turns, targets):
     psi = np.arctan2(dv[..., 1], dv[..., 0]) + sigma[:, None] * np.arccos(np.clip(k, -1, 1))
     v = targets[None] - a
     c, s = np.cos(psi), np.sin(psi)
-    q = np.stack([c * v[..., 0] + s * v[..., 1], -s * v[..., 0] + c * v[..., 1]], axis=-1)
+    return np.stack([c * v[..., 0] + s * v[..., 1], -s * v[..., 0] + c * v[..., 1]], -1), ok
+
+
+def relaxed_error(x, sigma, turns, targets):
+    """Exact error ``(K,)`` of the designs ``x (K, 8)`` (:data:`COORDS`) on branches ``sigma``
+    with the best coupler point, and that point ``(K, 2)`` (``u`` along A -> B, ``v`` to its
+    left); ``inf`` where some target cannot be assembled."""
+    q, ok = coupler_frame(x, sigma, turns, targets)
     m = q.mean(axis=1)
     err = np.sum((q - m[:, None, :]) ** 2, axis=(1, 2))
     return np.where(ok, err, np.inf), m

@@ -196,15 +196,6 @@ def _linear_bound(lo, hi, sigma, turns, targets, sweeps):
 
 def _q_at(x, sigma, turns, targets):
     """The targets in the coupler's frame ``(K, n, 2)`` for the designs ``x``."""
-    from .path_bound import _rot
+    from .path_bound import coupler_frame
 
-    a = x[:, None, 0:2] + _rot(turns, x[:, 2:4])
-    dv = x[:, None, 4:6] - a
-    d = np.hypot(dv[..., 0], dv[..., 1])
-    r3, r4 = x[:, None, 6], x[:, None, 7]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        k = (r3**2 + d**2 - r4**2) / (2.0 * r3 * d)
-    psi = np.arctan2(dv[..., 1], dv[..., 0]) + sigma[:, None] * np.arccos(np.clip(k, -1, 1))
-    v = targets[None] - a
-    cs, sn = np.cos(psi), np.sin(psi)
-    return np.stack([cs * v[..., 0] + sn * v[..., 1], -sn * v[..., 0] + cs * v[..., 1]], -1)
+    return coupler_frame(x, sigma, turns, targets)[0]
