@@ -54,46 +54,38 @@ def _numbers(line: str) -> list[str]:
     return [p for p in re.split(r"[,\s;]+", line.split("#")[0].strip()) if p]
 
 
+def _pairs_of_numbers(text, what: str, two: str, task: str, many: str, convert) -> np.ndarray:
+    """Lines of two numbers each (commas, spaces or semicolons between them; ``#`` starts a
+    comment; blank lines skipped), each number through ``convert``; at least three rows."""
+    rows = []
+    for i, line in enumerate(str(text or "").splitlines(), start=1):
+        parts = _numbers(line)
+        if not parts:
+            continue
+        if len(parts) != 2:
+            raise MechanismError(
+                f"{what} line {i}: give {two}, got {len(parts)}: {line.strip()!r}"
+            )
+        rows.append(tuple(convert(parse_number(p, f"{what} line {i}")) for p in parts))
+    if len(rows) < 3:
+        raise MechanismError(f"{task} takes 3 or more {many}, got {len(rows)}")
+    return np.array(rows, dtype=float)
+
+
 def parse_points(text: str, state: State) -> np.ndarray:
     """Target points typed one a line, ``x, y`` in the page's length unit (commas, spaces or
     semicolons between them; ``#`` starts a comment), as rows ``(x, y)`` in m. MechanismError
     names a line that is not two numbers, or too few points (path generation takes 3 or
     more)."""
-    rows = []
-    for i, line in enumerate(str(text or "").splitlines(), start=1):
-        parts = _numbers(line)
-        if not parts:
-            continue
-        if len(parts) != 2:
-            raise MechanismError(
-                f"point line {i}: give x and y (2 numbers), got {len(parts)}: {line.strip()!r}"
-            )
-        x, y = (parse_number(p, f"point line {i}") for p in parts)
-        rows.append((state.si(x, "m"), state.si(y, "m")))
-    if len(rows) < 3:
-        raise MechanismError(f"path generation takes 3 or more target points, got {len(rows)}")
-    return np.array(rows, dtype=float)
+    return _pairs_of_numbers(text, "point", "x and y (2 numbers)", "path generation",
+                             "target points", lambda v: state.si(v, "m"))  # fmt: skip
 
 
 def parse_pairs(text: str) -> np.ndarray:
     """Precision pairs typed one a line, ``crank angle, output angle`` in degrees, as rows in
     rad (at least three)."""
-    rows = []
-    for i, line in enumerate(str(text or "").splitlines(), start=1):
-        parts = _numbers(line)
-        if not parts:
-            continue
-        if len(parts) != 2:
-            raise MechanismError(
-                f"pair line {i}: give the crank and output angles (2 numbers, deg), got "
-                f"{len(parts)}: {line.strip()!r}"
-            )
-        rows.append(tuple(math.radians(parse_number(p, f"pair line {i}")) for p in parts))
-    if len(rows) < 3:
-        raise MechanismError(
-            f"function generation takes 3 or more precision pairs, got {len(rows)}"
-        )
-    return np.array(rows, dtype=float)
+    return _pairs_of_numbers(text, "pair", "the crank and output angles (2 numbers, deg)",
+                             "function generation", "precision pairs", math.radians)  # fmt: skip
 
 
 # ------------------------------------------------------------------------------ path
