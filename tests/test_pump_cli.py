@@ -15,7 +15,7 @@ from mechsynth.synthesis.problem_file import load_problem
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 UNIT = EXAMPLES / "pump_unit_c320.toml"
 CARD = EXAMPLES / "pump_card.csv"
-GEOM = "A = 3\nC = 2.5\nI = 2.5\nP = 3.2\nR = 0.8\nH = 5\nG = 1.8\n"
+GEOM = "units = \"m\"\nA = 3\nC = 2.5\nI = 2.5\nP = 3.2\nR = 0.8\nH = 5\nG = 1.8\n"
 
 
 def run(capsys, *argv):
@@ -68,6 +68,9 @@ def test_analyze_with_card_writes_files(capsys, tmp_path):
         (GEOM + "", "missing spm"),
         (GEOM + "spm = -5\n", "spm must be"),
         (GEOM.replace("A = 3", "A = 'x'") + "spm = 5\n", "A must be"),
+        # API 11E tables are in inches: a file without its unit must not be read as metres
+        (GEOM.replace('units = "m"\n', "") + "spm = 5\n", "units is required: 'in'"),
+        (GEOM.replace('units = "m"', 'units = "mm"') + "spm = 5\n", "units must be 'm' or 'in'"),
     ],
 )
 def test_bad_unit_files_exit_1(capsys, tmp_path, text, match):

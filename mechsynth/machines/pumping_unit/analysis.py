@@ -5,8 +5,8 @@ Unit file (TOML; top-level keys)::
     designation = "C-320D-256-120"     # free text
     unit_class = "conventional"        # or "mark-ii"
     rotation = "cw"                    # seen with the well on the right
-    units = "in"                       # of the geometry, and of the loads: "in" (in, lb, in-lb)
-                                       #   or "m" (m, N, N m)
+    units = "in"                       # required: of the geometry, and of the loads: "in"
+                                       #   (in, lb, in-lb) or "m" (m, N, N m)
     A = 155.00                         # API 11E geometry: A, C, I, P, R and K or (H, G)
     C = 111.06
     I = 111.02
@@ -105,7 +105,12 @@ def load_unit(source) -> tuple[BeamPumpingUnit, dict[str, Any]]:
     unknown = set(data) - UNIT_KEYS
     if unknown:
         raise MechanismError(f"{where}unknown keys {sorted(unknown)}; known: {sorted(UNIT_KEYS)}")
-    units = data.get("units", "m")
+    if "units" not in data:
+        raise MechanismError(
+            f"{where}units is required: 'in' (in, lb, in-lb, as API 11E tables give them) or 'm' "
+            "(m, N, N m); without it the geometry's numbers could be read in the wrong unit"
+        )
+    units = data["units"]
     if units not in ("m", "in"):
         raise MechanismError(f"{where}units must be 'm' or 'in', got {units!r}")
     missing = [k for k in ("A", "C", "I", "P", "R", "spm") if k not in data]
