@@ -48,9 +48,10 @@ class _Parser(argparse.ArgumentParser):
     def error(self, message):
         # one line, with the nearest known option or command for a misspelled one
         hint = _suggestion(self, message)
+        prog = _command_parser(self, getattr(self, "argv", None)).prog
         self.exit(
             EXIT_BAD_INPUT,
-            f"{self.prog}: error: {message}{hint} (see '{self.prog} --help')\n",
+            f"{self.prog.split()[0]}: error: {message}{hint} (see '{prog} --help')\n",
         )
 
 
@@ -65,6 +66,16 @@ def _option_strings(parser) -> set[str]:
     return found
 
 
+def _command_parser(parser, argv) -> argparse.ArgumentParser:
+    """The deepest subcommand parser named by the words of ``argv`` (``parser`` itself when
+    none is)."""
+    for word in argv or ():
+        subs = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
+        if subs and word in subs[0].choices:
+            parser = subs[0].choices[word]
+    return parser
+
+
 def _suggestion(parser, message: str) -> str:
     """'; did you mean --out?' for an unrecognized option or an invalid choice close to a known
     one, else ''."""
@@ -72,11 +83,15 @@ def _suggestion(parser, message: str) -> str:
     import re
 
     if message.startswith("unrecognized arguments:"):
-        known = sorted(_option_strings(parser))
+        # argparse reports leftovers from the top parser: look up the command that was given
+        known = sorted(_option_strings(_command_parser(parser, getattr(parser, "argv", None))))
         words = message.split(":", 1)[1].split()
         for word in words:
             if word.startswith("-"):
-                close = difflib.get_close_matches(word.split("=")[0], known, n=1, cutoff=0.5)
+                name = word.split("=")[0]
+                close = [
+                    c for c in difflib.get_close_matches(name, known, n=2, cutoff=0.75) if c != name
+                ]
                 if close:
                     return f"; did you mean {close[0]}?"
         return ""
@@ -724,6 +739,7 @@ def _run(argv, debug) -> int:
     from .fileio import output_dir
 
     parser = build_parser()
+    parser.argv = list(sys.argv[1:] if argv is None else argv)
     args = parser.parse_args(argv)
     WRITTEN.clear()
     try:

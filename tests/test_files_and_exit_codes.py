@@ -165,6 +165,8 @@ def test_usage_errors_exit_1_not_2(capsys):
         (["stdy", "list"], "did you mean 'study'?"),
         (["study", "run", "extreme-velocity", "--ot", "x"], "did you mean --out?"),
         (["study", "run", "extreme-velocity", "--jsn"], "did you mean --json?"),
+        # the command's own options: --min-transmision is synthesize path's, not optimize's
+        (["synthesize", "path", "t.csv", "--min-transmision", "30"], "did you mean --min-trans"),
         (["optimize"], "the following arguments are required: problem"),
     ],
 )
@@ -174,6 +176,14 @@ def test_usage_errors_are_one_line_with_the_nearest_name(capsys, argv, hint):
     err = capsys.readouterr().err
     assert exc.value.code == 1 and hint in err and err.count("\n") == 1, err
     assert "--help'" in err
+
+
+def test_no_suggestion_of_another_commands_option_or_of_the_word_itself(capsys):
+    # synthesize function has --points; synthesize path does not, and must not suggest it
+    with pytest.raises(SystemExit):
+        main(["synthesize", "path", "t.csv", "--points", "3"])
+    err = capsys.readouterr().err
+    assert "unrecognized arguments: --points" in err and "did you mean" not in err, err
 
 
 @pytest.mark.parametrize(
