@@ -3,11 +3,15 @@ generation of :mod:`.app`, with a canvas of their own where a click places a tar
 generation) or a pose (motion generation), and a preview that plays a solution moving over its
 targets in the browser.
 
-The path search runs the library's :func:`mechsynth.path_generation` in a worker process
-(progress from its starts, Cancel ends it at once, the page stays live); a function generator
-(:func:`mechsynth.function_generation`, fast) runs in the page's worker thread. Loading a
-solution makes it the page's mechanism (:mod:`.synthesis_model` gives its linkage), which then
-animates, optimizes and exports like any other.
+The path search runs the library's :func:`mechsynth.path_generation` (a four-bar, a
+slider-crank or the page's linkage; the crank angles at the targets free, prescribed or the
+path's shape only) in a worker process (progress from its starts, Cancel ends it at once, the
+page stays live); a function generator (:func:`mechsynth.function_generation`, fast) runs in
+the page's worker thread, its certified min-max stage in a worker process. A placed target
+point, a pose's position or its angle (the end of its axis) is dragged to move it; the typed
+list follows and the move can be undone. Loading a solution makes it the page's mechanism
+(:mod:`.synthesis_model` gives its linkage), which then animates, optimizes and exports like
+any other.
 """
 
 from __future__ import annotations
@@ -26,8 +30,13 @@ from .synthesis_model import (
     DEFAULT_POINTS,
     FunctionJob,
     PathJob,
+    certificate_words,
+    even_angles,
     function_preview,
     function_state,
+    linkage_variables,
+    minmax_worker,
+    parse_angles,
     parse_pairs,
     parse_points,
     path_preview,
@@ -41,6 +50,8 @@ __all__ = ["SynthesisTab", "TASKS"]
 
 #: the sub-tabs, in their order on the page
 TASKS = ("motion", "path", "function")
+#: a press within this fraction of the canvas's view of a placed target grabs it
+HIT = 0.03
 
 # the preview's script: draws frame k of the solution sent in 'synth-frames' ('synth-meta'
 # gives its links), plays it, and fits the view to 'synth-view' with equal scales
@@ -84,6 +95,112 @@ if (what === 'play') {
 """
 
 
+# the drag of a placed target in the browser: the mark nearest the press (within HIT of the
+# view's size) follows the pointer; 'points', 'poses' and 'view' are the canvas's sources
+GRAB_JS = r"""
+const V = view.data;
+const size = (V.x0 && V.x0.length) ? Math.max(V.x1[0] - V.x0[0], V.y1[0] - V.y0[0]) : 1;
+function grab(e) {
+  window._msGrab = null;
+  let best = HIT * size, g = null;
+  const P = points.data, Q = poses.data;
+  for (let i = 0; i < P.x.length; i++) {
+    const d = Math.hypot(P.x[i] - e.x, P.y[i] - e.y);
+    if (d <= best) { best = d; g = ['point', i]; }
+  }
+  for (let i = 0; i < Q.x.length; i++) {
+    const d = Math.hypot(Q.x[i] - e.x, Q.y[i] - e.y);
+    if (d <= best) { best = d; g = ['pose', i]; }
+    const t = Math.hypot(Q.xs[i][1] - e.x, Q.ys[i][1] - e.y);
+    if (t < best) { best = t; g = ['angle', i]; }
+  }
+  window._msGrab = g;
+}
+function move(e) {
+  const g = window._msGrab;
+  if (!g) return;
+  const i = g[1];
+  if (g[0] === 'point') {
+    const d = Object.assign({}, points.data);
+    d.x = d.x.slice(); d.y = d.y.slice(); d.x[i] = e.x; d.y[i] = e.y;
+    points.data = d;
+    return;
+  }
+  const d = Object.assign({}, poses.data);
+  d.x = d.x.slice(); d.y = d.y.slice(); d.xs = d.xs.slice(); d.ys = d.ys.slice();
+  const x = d.x[i], y = d.y[i], r = Math.hypot(d.xs[i][1] - x, d.ys[i][1] - y);
+  if (g[0] === 'pose') {
+    d.x[i] = e.x; d.y[i] = e.y;
+    d.xs[i] = [e.x, e.x + d.xs[i][1] - x]; d.ys[i] = [e.y, e.y + d.ys[i][1] - y];
+  } else {
+    const a = Math.atan2(e.y - y, e.x - x);
+    d.xs[i] = [x, x + r * Math.cos(a)]; d.ys[i] = [y, y + r * Math.sin(a)];
+  }
+  poses.data = d;
+}
+""".replace("HIT", str(HIT))
+
+
+class _Worker:
+    """A search in a process of its own: started, polled for its messages, cancelled, and
+    reaped when it ends (no zombie process stays behind)."""
+
+    def __init__(self):
+        self.proc = None
+        self.queue = None
+        self.t0 = 0.0
+        self.stage = ""
+        self.job = None
+
+    @property
+    def running(self) -> bool:
+        return self.proc is not None
+
+    def start(self, target, job):
+        ctx = multiprocessing.get_context("spawn")
+        self.queue = ctx.Queue()
+        self.proc = ctx.Process(target=target, args=(job, self.queue), daemon=True)
+        self.proc.start()
+        self.job, self.t0, self.stage = job, time.perf_counter(), "starting"
+
+    def end(self, kill: bool = False):
+        proc, self.proc = self.proc, None
+        if proc is not None:
+            if kill:
+                proc.terminate()
+            proc.join(timeout=5)
+            if proc.is_alive():
+                proc.kill()
+                proc.join(timeout=5)
+            if not proc.is_alive():
+                proc.close()
+        if self.queue is not None:
+            self.queue.close()
+        self.queue = None
+
+    def messages(self) -> list:
+        """The messages posted so far; ``("error", ...)`` when the process ended silently."""
+        out = []
+        while self.queue is not None:
+            try:
+                out.append(self.queue.get_nowait())
+            except (queue.Empty, OSError, ValueError):
+                break
+        if (
+            not any(m[0] in ("done", "error") for m in out)
+            and self.proc is not None
+            and not self.proc.is_alive()
+            and self.queue is not None
+            and self.queue.empty()
+        ):
+            out.append(("error", "the process ended without a result"))
+        return out
+
+    @property
+    def elapsed(self) -> float:
+        return time.perf_counter() - self.t0
+
+
 class SynthesisTab:
     """Path and function generation in the page of ``app`` (its :class:`~.app.Explorer`)."""
 
@@ -96,14 +213,17 @@ class SynthesisTab:
         from .app import _widget
 
         self.app = app
-        self._proc = None
-        self._queue = None
-        self._t0 = 0.0
-        self._stage = ""
+        self._path_run = _Worker()  # the path search
+        self._mm_run = _Worker()  # the function generator's min-max stage
         self._result = None  # the last path result
+        self._tables = None  # the linkage's tables it searched over (None: four-bar, slider)
+        self._moved = []  # the target lists (points, poses) before each move, to undo it
+        self._linkage_kind = None  # the page's linkage the path options were made for
         self._targets = None  # its targets (m)
         self._function = None  # the running function generation (a future)
         self._fg = None  # the last function generator
+        self._fn_job = None  # what made it
+        self._function_job = None  # what the running one was asked
         self._fitted = None  # the extent the canvas was last fitted to (display units)
 
         # the canvas: targets, poses, the previewed solution
@@ -142,6 +262,10 @@ class SynthesisTab:
         self._pan_from = None
         f.on_event(PanStart, lambda e: setattr(self, "_pan_from", (float(e.x), float(e.y))))
         f.on_event(PanEnd, self._on_pan_end)
+        # while a target is dragged the browser moves its mark (the list follows on release)
+        grab_args = dict(points=self.src_points, poses=self.src_poses, view=self.src_view)
+        f.js_on_event("panstart", CustomJS(args=grab_args, code=GRAB_JS + "grab(cb_obj);"))
+        f.js_on_event("pan", CustomJS(args=grab_args, code=GRAB_JS + "move(cb_obj);"))
         self.frame = Slider(start=0, end=1, value=0, step=1, title="preview frame",
                             show_value=False, sizing_mode="stretch_width", min_width=150,
                             name="synth-frame")  # fmt: skip
@@ -172,16 +296,63 @@ class SynthesisTab:
             css_classes=["path-points"],
         )
         self.points_input.param.watch(lambda e: self._draw_inputs(), "value")
+        self.path_mech = _widget(
+            pn.widgets.Select,
+            "Mechanism",
+            options={
+                "four-bar: its coupler point": "four-bar",
+                "slider-crank: a point on its rod": "slider-crank",
+                "the page's linkage: a point of it": "linkage",
+            },
+            value="four-bar",
+            width=260,
+        )
+        self.path_mech.param.watch(lambda e: app._later(self._path_options), "value")
         self.timing = _widget(
             pn.widgets.Select,
             "Timing",
             options={
                 "free: the crank angle at each point is free": "free",
+                "prescribed: the crank angle at each point given": "prescribed",
                 "shape only: a closed path's shape, placed anywhere": "shape",
             },
             value="free",
             width=330,
         )
+        self.timing.param.watch(lambda e: app._later(self._path_options), "value")
+        self.path_angles = _widget(
+            pn.widgets.TextInput,
+            "Crank angle at each point, deg (only their differences count)",
+            value="",
+            min_width=260,
+            max_width=600,
+            sizing_mode="stretch_width",
+        )
+        self.path_even = _widget(pn.widgets.Button, "Evenly spaced angles", width=170)
+        self.path_even.on_click(lambda e: app._later(self.even_angles))
+        self.path_trace = _widget(pn.widgets.Select, "Point to follow", options=[], width=150)
+        self.path_vary = _widget(
+            pn.widgets.MultiChoice, "Dimensions to vary", options=[], value=[], min_width=260,
+            max_width=600, sizing_mode="stretch_width",
+        )  # fmt: skip
+        self.path_spread = _widget(
+            pn.widgets.TextInput, "Range of each varied dimension, %", value="30", width=220
+        )
+        self.path_from_curve = _widget(
+            pn.widgets.Button, "Six points of the followed point's path", width=260
+        )
+        self.path_from_curve.on_click(lambda e: app._later(self.points_from_linkage))
+        self.path_angles_row = pn.FlexBox(self.path_angles, self.path_even, visible=False)
+        self.path_linkage_row = pn.FlexBox(
+            self.path_trace, self.path_spread, self.path_vary, self.path_from_curve,
+            visible=False,
+        )  # fmt: skip
+        self.undo_move = _widget(pn.widgets.Button, "Undo the target move", width=180,
+                                 disabled=True)  # fmt: skip
+        self.undo_move.on_click(lambda e: app._later(self.undo_target_move))
+        self.undo_move_poses = _widget(pn.widgets.Button, "Undo the pose move", width=170,
+                                       disabled=True, align="end")  # fmt: skip
+        self.undo_move_poses.on_click(lambda e: app._later(self.undo_target_move))
         self.path_mu = _widget(
             pn.widgets.TextInput, "Minimum transmission angle, deg", value="30", width=190
         )
@@ -246,6 +417,9 @@ class SynthesisTab:
         self.err_fig.toolbar.active_scroll = None
         self.src_err = ColumnDataSource(dict(x=[], y=[]), name="function-error-curve")
         self.src_prec = ColumnDataSource(dict(x=[], y=[]), name="function-precision")
+        self.src_err_before = ColumnDataSource(dict(x=[], y=[]), name="function-error-before")
+        self.err_fig.line("x", "y", source=self.src_err_before, line_width=2, color="#999999",
+                          line_dash="dashed", legend_label="before the min-max stage")  # fmt: skip
         self.err_fig.line("x", "y", source=self.src_err, line_width=2, color="#D55E00",
                           legend_label="true output - ideal output")  # fmt: skip
         self.err_fig.scatter("x", "y", source=self.src_prec, size=8, color="#0072B2",
@@ -256,6 +430,20 @@ class SynthesisTab:
             pn.widgets.Button, "Load the function generator", width=220, disabled=True
         )
         self.fn_load.on_click(lambda e: app._later(self.load_function))
+        self.fn_minmax = _widget(
+            pn.widgets.Button, "Minimize the worst error (certified min-max)",
+            button_type="primary", width=320, disabled=True,
+        )  # fmt: skip
+        self.fn_minmax.on_click(lambda e: app._later(self.start_minmax))
+        self.fn_mm_cancel = _widget(
+            pn.widgets.Button, "Cancel the min-max", button_type="warning", width=150,
+            disabled=True,
+        )  # fmt: skip
+        self.fn_mm_cancel.on_click(lambda e: app._later(self.cancel_minmax))
+        self.fn_mm_progress = pn.indicators.Progress(
+            value=0, max=1, width=160, active=False, visible=False, align="center"
+        )
+        self.fn_cert = pn.pane.HTML("", sizing_mode="stretch_width", css_classes=["fn-cert"])
 
         # motion generation: a click places a pose with this angle
         self.pose_angle = _widget(
@@ -271,15 +459,19 @@ class SynthesisTab:
         import panel as pn
 
         help_ = pn.pane.HTML(
-            "<b>Path generation</b>: a four-bar whose coupler point passes as near as possible "
-            "to the points (<code>ms.path_generation</code>), its crank turning fully. A click "
-            "on the canvas adds a point; the list can be typed or pasted.",
+            "<b>Path generation</b>: a four-bar, a slider-crank or the page's linkage whose "
+            "point passes as near as possible to the points (<code>ms.path_generation</code>),"
+            " its crank turning fully. A click on the canvas adds a point, a drag moves one; "
+            "the list can be typed or pasted.",
             margin=(0, 10),
         )
         path = pn.Column(
             help_,
             self.points_input,
-            pn.FlexBox(self.timing, self.path_mu, self.path_starts),
+            self.undo_move,
+            pn.FlexBox(self.path_mech, self.timing, self.path_mu, self.path_starts),
+            self.path_angles_row,
+            self.path_linkage_row,
             pn.Row(self.path_button, self.path_cancel, self.path_progress),
             self.path_msg,
             self.path_table,
@@ -298,6 +490,8 @@ class SynthesisTab:
             self.fn_button,
             self.fn_msg,
             self.fn_design,
+            pn.Row(self.fn_minmax, self.fn_mm_cancel, self.fn_mm_progress),
+            self.fn_cert,
             pn.pane.Bokeh(self.err_fig, sizing_mode="stretch_width"),
             self.fn_load,
             sizing_mode="stretch_width",
@@ -305,9 +499,10 @@ class SynthesisTab:
         motion = pn.Column(
             pn.pane.HTML(
                 "A click on the canvas above adds a pose at the angle given here, a drag a pose "
-                "at its start along the drag (or type the poses below)."
+                "at its start along the drag (or type the poses below). A drag from a pose's "
+                "square moves it, from the end of its line turns it."
             ),
-            self.pose_angle,
+            pn.Row(self.pose_angle, self.undo_move_poses),
             motion,
             sizing_mode="stretch_width",
         )
@@ -351,6 +546,8 @@ class SynthesisTab:
         """Another sub-tab: the canvas shows its targets and its last solution."""
         self._draw_inputs()
         task = self._task()
+        if task == "path":
+            self._path_options()
         if task == "path" and self._result is not None and self._result.solutions:
             self.preview_path()
         elif task == "function" and self._fg is not None:
@@ -367,25 +564,94 @@ class SynthesisTab:
             self.app._later(self.drag, *start, float(event.x), float(event.y))
 
     def drag(self, x0: float, y0: float, x1: float, y1: float):
-        """A drag on the canvas from ``(x0, y0)`` to ``(x1, y1)`` (display length unit): on
-        the motion generation, a pose at the start whose angle is the drag's direction (the
-        angle field follows, to a whole degree); elsewhere nothing (the canvas's pan tool is a
-        click away)."""
-        if self._task() != "motion" or (x1, y1) == (x0, y0):
+        """A drag on the canvas from ``(x0, y0)`` to ``(x1, y1)`` (display length unit). From
+        a placed target (within :data:`HIT` of the view's size; the nearest): a point or a
+        pose moves to the drag's end, a pose's axis end turns the pose towards it (to a
+        whole degree), and the typed list follows. Elsewhere on the motion generation: a
+        pose at the start whose angle is the drag's direction (the angle field follows, to a
+        whole degree); elsewhere nothing (the canvas's pan tool is a click away)."""
+        if (x1, y1) == (x0, y0):
+            return
+        grab = self._grabbed(x0, y0)
+        if grab is not None:
+            self.move_target(*grab, x1, y1)
+            return
+        if self._task() != "motion":
             return
         # to a whole degree: a drag is not finer than that
         self.pose_angle.value = f"{round(math.degrees(math.atan2(y1 - y0, x1 - x0)))}"
         self.click(x0, y0)
+
+    def _grabbed(self, x: float, y: float):
+        """``(what, i)`` of the placed target nearest ``(x, y)`` within reach: ``"point"``,
+        ``"pose"`` (its place) or ``"angle"`` (its axis end), ``i`` its row; or None."""
+        if self._fitted is None:
+            return None
+        best, grab = HIT * _size(self._fitted), None
+        pts, poses = self.src_points.data, self.src_poses.data
+        for i, (px, py) in enumerate(zip(pts["x"], pts["y"])):
+            d = math.hypot(px - x, py - y)
+            if d <= best:
+                best, grab = d, ("point", i)
+        for i, (px, py) in enumerate(zip(poses["x"], poses["y"])):
+            d = math.hypot(px - x, py - y)
+            if d <= best:
+                best, grab = d, ("pose", i)
+            t = math.hypot(poses["xs"][i][1] - x, poses["ys"][i][1] - y)
+            if t < best:
+                best, grab = t, ("angle", i)
+        return grab
+
+    def move_target(self, what: str, i: int, x: float, y: float):
+        """Move the ``i``-th placed target point (``what`` ``"point"``) or pose (``"pose"``:
+        its place) to ``(x, y)``, or turn the pose towards it (``"angle"``); display units.
+        The typed list's line changes (others, comments included, stay) and the move can be
+        undone (:meth:`undo_target_move`)."""
+        x, y = self._snap(x, y)
+        widget = self.points_input if what == "point" else self.app.poses_input
+        lines = str(widget.value or "").split("\n")
+        rows = _row_lines(widget.value, 2 if what == "point" else 3)
+        if not 0 <= i < len(rows):
+            return
+        k, vals = rows[i]
+        if what == "point":
+            text = f"{x:.6g}, {y:.6g}"
+        elif what == "pose":
+            text = f"{x:.6g}, {y:.6g}, {vals[2]:.6g}"
+        else:
+            angle = round(math.degrees(math.atan2(y - vals[1], x - vals[0])))
+            text = f"{vals[0]:.6g}, {vals[1]:.6g}, {angle:.6g}"
+        comment = lines[k][lines[k].index("#") :] if "#" in lines[k] else ""
+        lines[k] = f"{text}  {comment}" if comment else text
+        self._moved.append((self.points_input.value, self.app.poses_input.value))
+        del self._moved[:-50]
+        widget.value = "\n".join(lines)
+        self._undo_buttons()
+
+    def undo_target_move(self):
+        """The target lists as they were before the last move (moves undone one by one)."""
+        if not self._moved:
+            return
+        self.points_input.value, self.app.poses_input.value = self._moved.pop()
+        self._undo_buttons()
+
+    def _undo_buttons(self):
+        self.undo_move.disabled = self.undo_move_poses.disabled = not self._moved
+
+    def _snap(self, x: float, y: float) -> tuple[float, float]:
+        """``(x, y)`` to a thousandth of the canvas's size (not to a pixel)."""
+        if self._fitted is not None:
+            x0, x1, y0, y1 = self._fitted
+            step = 10.0 ** math.floor(math.log10(max(x1 - x0, y1 - y0, 1e-9) / 1000))
+            x, y = round(x / step) * step, round(y / step) * step
+        return x, y
 
     def click(self, x: float, y: float):
         """A click on the canvas at ``(x, y)`` (display length unit): a target point when the
         path generation is shown, a pose (at the angle field's value) when the motion
         generation is; nothing on the function generation."""
         active = self._task()
-        if self._fitted is not None:  # to a thousandth of the canvas's size, not to a pixel
-            x0, x1, y0, y1 = self._fitted
-            step = 10.0 ** math.floor(math.log10(max(x1 - x0, y1 - y0, 1e-9) / 1000))
-            x, y = round(x / step) * step, round(y / step) * step
+        x, y = self._snap(x, y)
         if active == "path":
             self.points_input.value = _append(self.points_input.value, f"{x:.6g}, {y:.6g}")
         elif active == "motion":
@@ -464,6 +730,67 @@ class SynthesisTab:
         self.src_curve.data = dict(x=[], y=[])
 
     # ------------------------------------------------------------------ path generation
+    def _page_linkage(self):
+        """The page's linkage kind (one with a linkage file's tables), or None."""
+        kind = self.app.state.kind
+        return kind if kind.file_data else None
+
+    def _path_options(self):
+        """The fields the mechanism and timing chosen ask for: the crank angles with
+        prescribed timing; the point to follow and the dimensions to vary (the page's
+        linkage's, made again when the page shows another)."""
+        self.path_angles_row.visible = self.timing.value == "prescribed"
+        linkage = self.path_mech.value == "linkage"
+        self.path_linkage_row.visible = linkage
+        if not linkage:
+            return
+        kind = self._page_linkage()
+        if kind is None:
+            self.path_trace.options, self.path_vary.options = [], []
+            self.path_msg.object = _bad(
+                f"the page shows the {self.app.state.kind.title}, not a linkage: pick "
+                "'Linkage' in the Mechanism menu, open a linkage file, build one or load a "
+                "synthesized one first",
+                "path-state",
+            )
+            self._linkage_kind = None
+            return
+        if kind is self._linkage_kind:
+            return
+        self._linkage_kind = kind
+        lk = kind.build(dict(self.app.state.values))
+        ground = set(lk.topology().ground)
+        moving = [p for p in lk.points if p not in ground]
+        self.path_trace.options = moving
+        self.path_trace.value = next((p for p in kind.trace if p in moving), moving[-1])
+        names = [d.name for d in kind.dims]
+        self.path_vary.options = names
+        # the crank's phase only shifts the crank angles: free timing has them free already
+        self.path_vary.value = [n for n in names if n != "phase"]
+        if "path-state" in str(self.path_msg.object) and "not a linkage" in str(
+            self.path_msg.object
+        ):
+            self.path_msg.object = ""
+
+    def even_angles(self):
+        """Crank angles evenly spaced over a turn, one per target point, in the field."""
+        n = len(_rows(self.points_input.value, 2))
+        self.path_angles.value = ", ".join(f"{math.degrees(a):.6g}" for a in even_angles(n))
+
+    def points_from_linkage(self, n: int = 6):
+        """``n`` points of the followed point's path at the page's design (crank angles
+        evenly spaced over a turn) as the targets, to move or edit from there."""
+        kind = self._page_linkage()
+        if kind is None or not self.path_trace.value:
+            self._path_options()
+            return
+        st = self.app.state
+        lk = kind.build(dict(st.values))
+        p = lk.motion(even_angles(n)).points[self.path_trace.value]
+        f = st.display.factor("m")
+        xy = np.column_stack(np.broadcast_arrays(p.x, p.y)) / f
+        self.points_input.value = "\n".join(f"{x:.6g}, {y:.6g}" for x, y in xy)
+
     def path_job(self) -> PathJob:
         """The search the fields ask for (MechanismError names a bad field)."""
         st = self.app.state
@@ -472,98 +799,98 @@ class SynthesisTab:
         mu = None
         if mu_text:
             mu = math.radians(parse_number(mu_text, "minimum transmission angle, deg"))
-        return PathJob(targets, self.timing.value, mu, int(self.path_starts.value or 1))
+        timing, mech = self.timing.value, self.path_mech.value
+        kw = {}
+        if timing == "prescribed":
+            kw["angles"] = parse_angles(self.path_angles.value, len(targets))
+        if mech == "linkage":
+            kind = self._page_linkage()
+            if kind is None:
+                raise MechanismError(
+                    f"the page shows the {st.kind.title}, not a linkage: pick 'Linkage' in the "
+                    "Mechanism menu or open a linkage file first"
+                )
+            spread = parse_number(self.path_spread.value, "range of each varied dimension, %")
+            kw.update(
+                tables=kind.file_data,
+                values=dict(st.values),
+                trace=self.path_trace.value,
+                variables=linkage_variables(st, list(self.path_vary.value), spread / 100.0),
+            )
+        return PathJob(targets, timing, mu, int(self.path_starts.value or 1), mechanism=mech,
+                       **kw)  # fmt: skip
 
     def start_path(self):
-        if self._proc is not None:
+        if self._path_run.running:
             return
         try:
             job = self.path_job()
         except MechanismError as exc:
             self.path_msg.object = _bad(exc, "path-state")
             return
-        ctx = multiprocessing.get_context("spawn")
-        self._queue = ctx.Queue()
-        self._proc = ctx.Process(target=path_worker, args=(job, self._queue), daemon=True)
-        self._proc.start()
-        self._job = job
-        self._t0 = time.perf_counter()
-        self._stage = "starting the search"
+        self._path_run.start(path_worker, job)
+        self._path_run.stage = "starting the search"
         self.path_button.disabled = True
         self.path_cancel.disabled = False
         self.path_progress.param.update(visible=True, active=True, value=-1)
         self.path_msg.object = "<span id='path-state'>searching: starting the search...</span>"
 
     def cancel_path(self):
-        if self._proc is None:
+        if not self._path_run.running:
             return
-        self._proc.terminate()
-        self._end_path()
+        self._end_path(kill=True)
         self.path_msg.object = "<span id='path-state'>cancelled</span>"
 
     def close(self):
-        """Stop a running search (the session ended)."""
-        if self._proc is not None:
-            self._proc.terminate()
-            self._end_path()
+        """Stop a running search or min-max (the session ended)."""
+        if self._path_run.running:
+            self._end_path(kill=True)
+        if self._mm_run.running:
+            self._end_minmax(kill=True)
 
-    def _end_path(self):
-        proc, self._proc = self._proc, None
-        if proc is not None:  # reaped: no zombie process stays behind
-            proc.join(timeout=5)
-            if proc.is_alive():
-                proc.kill()
-                proc.join(timeout=5)
-            if not proc.is_alive():
-                proc.close()
-        if self._queue is not None:
-            self._queue.close()
-        self._queue = None
+    def _end_path(self, kill=False):
+        self._path_run.end(kill)
         self.path_button.disabled = False
         self.path_cancel.disabled = True
         self.path_progress.param.update(active=False, visible=False)
 
     def poll(self):
-        """Collect the search's messages and the function generator (periodic callback)."""
+        """Collect the workers' messages and the function generator (periodic callback)."""
         self._poll_function()
-        if self._queue is None:
+        self._poll_minmax()
+        if self.path_mech.value == "linkage" and self.app.state.kind is not self._linkage_kind:
+            self._path_options()  # the page shows another linkage
+        run = self._path_run
+        if not run.running:
             return
-        while self._queue is not None:
-            try:
-                msg = self._queue.get_nowait()
-            except (queue.Empty, OSError, ValueError):
-                break
+        for msg in run.messages():
             if msg[0] == "progress":
                 _, desc, k, total = msg
                 if total:
                     self.path_progress.param.update(max=total, value=min(k, total))
-                self._stage = f"start {k} of {total or '?'}"
+                run.stage = f"start {k} of {total or '?'}"
             elif msg[0] == "done":
+                job = run.job
                 self._end_path()
-                self.show_path(msg[1], self._job.targets)
+                self.show_path(msg[1], job.targets, job.tables)
                 return
             elif msg[0] == "error":
                 self._end_path()
                 self.path_msg.object = _bad(f"the search failed: {msg[1]}", "path-state")
                 return
-        if self._proc is not None and not self._proc.is_alive() and self._queue.empty():
-            self._end_path()
-            self.path_msg.object = _bad("the search's process ended without a result",
-                                        "path-state")  # fmt: skip
-            return
-        if self._proc is not None:
-            elapsed = time.perf_counter() - self._t0
-            self.path_msg.object = (
-                f"<span id='path-state'>searching: {self._stage} ({elapsed:.0f} s)</span>"
-            )
+        self.path_msg.object = (
+            f"<span id='path-state'>searching: {run.stage} ({run.elapsed:.0f} s)</span>"
+        )
 
-    def show_path(self, res, targets):
-        """A finished search: its ranked solutions in the table, the best previewed."""
+    def show_path(self, res, targets, tables=None):
+        """A finished search: its ranked solutions in the table, the best previewed
+        (``tables``: the linkage's when the search was over the page's linkage)."""
         self._result, self._targets = res, np.asarray(targets, float)
+        self._tables = tables
         rows = path_rows(res)
         if not rows:
             self.path_msg.object = _bad(
-                f"no four-bar found ({res.status}{': ' + res.message if res.message else ''}"
+                f"nothing found ({res.status}{': ' + res.message if res.message else ''}"
                 "): try more starts, a smaller minimum transmission angle or other points",
                 "path-state",
             )
@@ -575,11 +902,18 @@ class SynthesisTab:
         st = self.app.state
         unit = st.unit_label("m")
         f = st.display.factor("m")
+
+        def head(name, u):
+            return f"<th>{name}, {unit if u == 'm' else 'deg'}</th>"
+
+        def cell(v, u):
+            return f"<td>{v / f if u == 'm' else math.degrees(v):.6g}</td>"
+
         html = [
             "<table id='path-table' style='font-size:13px'><tr><th>rank</th>"
             f"<th>largest distance, {unit}</th><th>sum of squared distances, {unit}^2</th>"
             "<th>min transmission angle, deg</th>"
-            + "".join(f"<th>{k}, {unit}</th>" for k in ("crank", "coupler", "rocker", "ground"))
+            + "".join(head(n, u) for n, _, u in rows[0]["dims"])
             + "<th>note</th></tr>"
         ]
         for r in rows:
@@ -587,15 +921,19 @@ class SynthesisTab:
                 f"<tr><td>{r['rank']}</td><td>{r['max_distance'] / f:.4g}</td>"
                 f"<td>{r['error'] / f**2:.4g}</td>"
                 f"<td>{math.degrees(r['transmission']):.1f}</td>"
-                + "".join(f"<td>{r[k] / f:.6g}</td>" for k in
-                          ("crank", "coupler", "rocker", "ground"))
+                + "".join(cell(v, u) for _, v, u in r["dims"])
                 + f"<td>{r['note'] or ''}</td></tr>"
-            )  # fmt: skip
+            )
         html.append("</table>")
         self.path_table.object = "".join(html)
+        what = {"four-bar": "four-bar", "slider-crank": "slider-crank"}.get(
+            _mechanism_of(res.solutions[0]), "design"
+        )
+        timing = {"free": "", "shape": ", by the path's shape",
+                  "prescribed": ", at the crank angles given"}[res.timing]  # fmt: skip
         self.path_msg.object = (
-            f"<span id='path-state'>{len(rows)} four-bar{'s' if len(rows) != 1 else ''} "
-            f"through the {len(targets)} points "
+            f"<span id='path-state'>{len(rows)} {what}{'s' if len(rows) != 1 else ''} "
+            f"through the {len(targets)} points{timing} "
             f"({res.status}, {res.seconds:.1f} s, {res.starts} starts), best first: pick one to "
             "preview it over the points, load it to edit, optimize or export it</span>"
         )
@@ -618,10 +956,9 @@ class SynthesisTab:
             return
         pv = path_preview(sol)
         t = self._targets / self.app.state.display.factor("m")
-        cols = {k: pv[k] for k in ("O1", "A", "B", "O2", "P")}
         self._show_preview(
-            cols, links=[["O1", "A"], ["A", "B", "P", "A"], ["B", "O2"]],
-            pins=["O1", "A", "B", "O2", "P"], curve=pv["P"], extra=[tuple(r) for r in t],
+            pv["points"], links=pv["links"], pins=pv["pins"], curve=pv["points"][pv["trace"]],
+            extra=[tuple(r) for r in t],
         )  # fmt: skip
 
     def load_path(self):
@@ -629,7 +966,11 @@ class SynthesisTab:
         app = self.app
         if sol is None or app._busy("load a solution"):
             return
-        st = path_state(sol, rank, app.units_select.value)
+        try:
+            st = path_state(sol, rank, app.units_select.value, self._tables)
+        except MechanismError as exc:
+            self.path_msg.object = _bad(exc, "path-state")
+            return
         app._load_state(st, None)
         # the targets on the drawing (points: no angle)
         app._targets = np.column_stack([self._targets, np.full(len(self._targets), np.nan)])
@@ -665,8 +1006,10 @@ class SynthesisTab:
             self.fn_msg.object = _bad(exc, "function-state")
             return
         self.fn_button.disabled = True
+        self.fn_minmax.disabled = True
         self.fn_msg.object = "<span id='function-state'>generating...</span>"
         self._function = _POOL.submit(run_function, job)
+        self._function_job = job
 
     def _poll_function(self):
         if self._function is None or not self._function.done():
@@ -677,8 +1020,72 @@ class SynthesisTab:
             fg = fut.result()
         except (ValueError, TypeError, MechanismError) as exc:
             self.fn_msg.object = _bad(exc, "function-state")
+            self.fn_minmax.disabled = not self._can_minmax()
             return
+        self._fn_job = self._function_job
         self.show_function(fg)
+
+    def _can_minmax(self) -> bool:
+        fg, job = self._fg, self._fn_job
+        return (fg is not None and fg.solve is None and job is not None and job.pairs is None
+                and not self._mm_run.running)  # fmt: skip
+
+    def start_minmax(self):
+        """The certified min-max stage from the precision-point design, in a worker process
+        (the function generator of the fields, made again there, then its worst structural
+        error minimized; Cancel ends it)."""
+        if self._mm_run.running or self._fg is None:
+            return
+        job = self._fn_job  # the generator shown, not the fields as edited since
+        if job is None or job.pairs is not None:
+            self.fn_cert.object = _bad(
+                "the min-max stage needs a function y = f(x): precision pairs alone do not "
+                "define the error over the whole range", "function-certificate",
+            )  # fmt: skip
+            return
+        self._mm_run.start(minmax_worker, job)
+        self._mm_run.stage = "starting the solve"
+        self.fn_minmax.disabled = self.fn_button.disabled = True
+        self.fn_mm_cancel.disabled = False
+        self.fn_mm_progress.param.update(visible=True, active=True, value=-1)
+        self.fn_cert.object = "<span id='function-certificate'>min-max: starting...</span>"
+
+    def cancel_minmax(self):
+        if not self._mm_run.running:
+            return
+        self._end_minmax(kill=True)
+        self.fn_cert.object = "<span id='function-certificate'>min-max cancelled</span>"
+
+    def _end_minmax(self, kill=False):
+        self._mm_run.end(kill)
+        self.fn_button.disabled = False
+        self.fn_minmax.disabled = not self._can_minmax()
+        self.fn_mm_cancel.disabled = True
+        self.fn_mm_progress.param.update(active=False, visible=False)
+
+    def _poll_minmax(self):
+        run = self._mm_run
+        if not run.running:
+            return
+        for msg in run.messages():
+            if msg[0] == "progress":
+                _, desc, k, total = msg
+                if total:
+                    self.fn_mm_progress.param.update(max=total, value=min(k, total))
+                run.stage = f"start {k} of {total or '?'}" + (
+                    ", certifying the worst error" if total and k >= total else "")  # fmt: skip
+            elif msg[0] == "done":
+                self._end_minmax()
+                self.show_function(msg[1])
+                return
+            elif msg[0] == "error":
+                self._end_minmax()
+                self.fn_cert.object = _bad(f"the min-max failed: {msg[1]}",
+                                           "function-certificate")  # fmt: skip
+                return
+        self.fn_cert.object = (
+            f"<span id='function-certificate'>min-max: {run.stage} ({run.elapsed:.0f} s)</span>"
+        )
 
     def show_function(self, fg):
         """A function generator: its structural error curve, its design, its preview."""
@@ -693,7 +1100,15 @@ class SynthesisTab:
             x, xlabel = np.degrees(np.asarray(fg.x, float)), "crank angle, deg"
             px = np.degrees(np.asarray(fg.precision_points, float)[:, 0])
         self.src_err.data = dict(x=x.tolist(), y=err.tolist())
-        self.src_prec.data = dict(x=px.tolist(), y=[0.0] * len(px))
+        before = [] if fg.start_error is None else np.degrees(fg.start_error).tolist()
+        self.src_err_before.data = dict(x=x.tolist() if before else [], y=before)
+        # the precision points on the error curve: where the design meets f exactly (after
+        # the min-max stage they no longer are)
+        self.src_prec.data = dict(
+            x=px.tolist(),
+            y=([0.0] * len(px) if fg.start_error is None
+               else np.interp(px, x, err).tolist()),
+        )  # fmt: skip
         self.err_fig.xaxis.axis_label = xlabel
         self.err_fig.title.text = (
             f"structural error ({fg.method}): largest {math.degrees(fg.max_error):.4g} deg"
@@ -716,6 +1131,13 @@ class SynthesisTab:
             + ": its motion over the input range is on the canvas above</span>"
         )
         self.fn_load.disabled = not d.full_turn
+        self.fn_minmax.disabled = not self._can_minmax()
+        if fg.solve is not None:
+            self.fn_cert.object = (
+                "<span id='function-certificate'>" + _esc(certificate_words(fg)) + "</span>"
+            )
+        elif not self._mm_run.running:
+            self.fn_cert.object = ""
         pv = function_preview(fg)
         self._show_preview(pv, links=[["O1", "A"], ["A", "B"], ["B", "O2"]],
                            pins=["O1", "A", "B", "O2"])  # fmt: skip
@@ -743,7 +1165,7 @@ class SynthesisTab:
         # the results in the new units (the typed lists are read in them from now on)
         if self._result is not None:
             rank = self.path_pick.value
-            self.show_path(self._result, self._targets)
+            self.show_path(self._result, self._targets, self._tables)
             self.path_pick.value = rank
         if self._fg is not None:
             self.show_function(self._fg)
@@ -758,10 +1180,15 @@ def _append(text: str | None, line: str) -> str:
 
 def _rows(text, k: int) -> list[tuple[float, ...]]:
     """The lines of ``text`` that are ``k`` finite numbers (as typed)."""
+    return [vals for _, vals in _row_lines(text, k)]
+
+
+def _row_lines(text, k: int) -> list[tuple[int, tuple[float, ...]]]:
+    """``(line index, numbers)`` of the lines of ``text`` that are ``k`` finite numbers."""
     import re
 
     out = []
-    for line in str(text or "").splitlines():
+    for n, line in enumerate(str(text or "").split("\n")):
         parts = [p for p in re.split(r"[,\s;]+", line.split("#")[0].strip()) if p]
         if len(parts) != k:
             continue
@@ -770,7 +1197,7 @@ def _rows(text, k: int) -> list[tuple[float, ...]]:
         except ValueError:
             continue
         if all(math.isfinite(v) for v in vals):
-            out.append(vals)
+            out.append((n, vals))
     return out
 
 
@@ -792,6 +1219,12 @@ def _inside(ext, fitted) -> bool:
     x0, x1, y0, y1 = fitted
     m = 0.08 * max(x1 - x0, y1 - y0)
     return ext[0] >= x0 - m and ext[1] <= x1 + m and ext[2] >= y0 - m and ext[3] <= y1 + m
+
+
+def _mechanism_of(sol) -> str:
+    if sol.fourbar is not None:
+        return "four-bar"
+    return "slider-crank" if sol.linkage.name == "slider-crank path generator" else "linkage"
 
 
 def _esc(text) -> str:
