@@ -163,6 +163,26 @@ def number(name: str, value, unit: str = "") -> float:
     return v
 
 
+def radians_meant(name: str, value: float) -> None:
+    """Refuse an angle beyond one turn: almost surely degrees typed as radians (``30`` for
+    30 deg). The message gives the reading in radians it was probably meant to be."""
+    v = float(value)
+    if abs(v) > 2.0 * math.pi + 1e-9:
+        raise MechanismError(
+            f"{name} {v:g} rad is more than a turn ({math.degrees(v):.6g} deg): angles are in "
+            f"radians; for {v:g} deg write ms.deg({v:g}) = {math.radians(v):.6g} rad "
+            '(in a file or on the command line: "' + f'{v:g} deg")'
+        )
+
+
+def angle(name: str, value) -> float:
+    """One finite angle in radians, within one turn (see :func:`radians_meant`)."""
+    v = number(name, value, "rad")
+    if type(v) is float:
+        radians_meant(name, v)
+    return v
+
+
 def positive(name: str, value, unit: str = ""):
     """A finite real number (or array) > 0."""
     return _sign_check(name, real(name, value, unit), unit, lambda v: v <= 0.0, "positive")

@@ -6,6 +6,7 @@ import pytest
 
 import mechsynth as ms
 from mechsynth import objectives as ob
+from mechsynth.synthesis.problem_file import parse_quantity
 
 SPEED = ms.rpm(600)  # the slider-crank problems are solved at a fixed crank speed of 600 rpm
 H = 0.10  # required stroke, m
@@ -264,3 +265,28 @@ def test_an_angle_in_degrees_typed_as_radians_is_refused_with_the_reading_meant(
     prob.subject_to(ob.max_pressure_angle() <= ms.deg(30))  # radians: taken
     with pytest.raises(ms.MechanismError, match=r"'N_guide_angle': bounds 40 rad .*40 deg"):
         ms.Problem(ms.six_link(), variables={"N_guide_angle": (40, 70)})
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda: ms.path_generation(
+            np.array([[0, 0], [0.1, 0.05], [0.2, 0.0]]), min_transmission=30
+        ),
+        lambda: ms.function_generation(
+            "log10(x)", (1, 10), input_range=1.0, output_range=1.0, min_transmission=40
+        ),
+        lambda: parse_quantity("120", "--min-transmission", "rad"),
+        lambda: parse_quantity(45.0, "guide", "rad"),
+    ],
+    ids=["path_generation", "function_generation", "cli-text", "file-number"],
+)
+def test_angles_beyond_a_turn_are_refused_with_the_degree_reading(call):
+    with pytest.raises(ms.MechanismError, match=r"rad is more than a turn .* deg\)"):
+        call()
+
+
+def test_angles_with_a_unit_or_within_a_turn_are_taken():
+    assert parse_quantity("120 deg", "a", "rad") == pytest.approx(np.deg2rad(120))
+    assert parse_quantity("0.5", "a", "rad") == 0.5
+    assert parse_quantity("700", "a", "m") == 700.0  # lengths are not angles

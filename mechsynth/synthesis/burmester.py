@@ -304,7 +304,7 @@ class Burmester:
                 "slider dyad is Burmester.sliders(), with 5 it exists only where a Burmester "
                 "point lies at infinity"
             )
-        g = validate.number("guide_angle", guide_angle, "rad")
+        g = validate.angle("guide_angle", guide_angle)
         n = np.array([-np.sin(g), np.cos(g)])
         rows, rhs = _slider_rows(self.poses, self._scale, n)
         if abs(np.linalg.det(rows)) < 1e-12:
@@ -325,7 +325,7 @@ class Burmester:
                 "is Burmester.rp_dyads(), with 5 it exists only where a circle point lies at "
                 "infinity"
             )
-        g = validate.number("line_angle", line_angle, "rad")
+        g = validate.angle("line_angle", line_angle)
         d = _rp_dyad(self.poses, self._scale, np.array([-np.sin(g), np.cos(g)]))
         if d is None:
             raise MechanismError(

@@ -608,7 +608,7 @@ def function_generation(
                               "m")  # fmt: skip
     n_eval = validate.integer("n_eval", n_eval, 16, 100_000)
     if min_transmission is not None:
-        min_transmission = validate.number("min_transmission", min_transmission, "rad")
+        min_transmission = validate.angle("min_transmission", min_transmission)
     if pairs is not None:
         if function is not None:
             raise MechanismError("give either a function or precision pairs, not both")

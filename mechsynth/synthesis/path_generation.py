@@ -506,10 +506,11 @@ def _path_generation(
             raise MechanismError(f"free timing needs at least 3 targets, got {n}")
     min_mu = 0.0
     if min_transmission is not None:
-        min_mu = validate.number("min_transmission", min_transmission, "rad")
+        min_mu = validate.angle("min_transmission", min_transmission)
         if not 0.0 <= min_mu < np.pi / 2:
             raise MechanismError(
-                f"min_transmission must be in [0, 90) deg, got {np.rad2deg(min_mu):.6g} deg"
+                f"min_transmission must be in [0, 90) deg, got {np.rad2deg(min_mu):.6g} deg "
+                f"({min_mu:g} rad)"
             )
     starts = validate.integer("starts", starts, lo=1, hi=10000)
     margin = validate.number("feasibility_margin", feasibility_margin)

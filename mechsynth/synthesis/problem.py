@@ -78,6 +78,13 @@ class Problem:
     feasibility_margin : relative margin of the mechanism's ``feasibility_constraints`` (full
         turn of the crank, assembly), which are added automatically.
     tol : relative constraint tolerance for success: ``violation <= tol * max(1, |bound|)``.
+    slots : refinement slots of the gradient solvers' program (angles the certification may
+        add to the grid). None (default): 16, then a new program of 32, 64, ... when the
+        refinement needs more. A number: that many from the start, one program for the
+        starts and every refinement round (multipliers carried across rounds, a refinement
+        angle moved along its peak instead of a new one added beside it); grown only if the
+        refinement still needs more. For problems whose program is costly to build (the
+        impact machine's kinetostatics).
     """
 
     def __init__(
@@ -89,6 +96,7 @@ class Problem:
         angles=64,
         feasibility_margin: float = 1e-3,
         tol: float = 1e-6,
+        slots: int | None = None,
     ):
         fields = _parameters(mechanism)
         kinds = {} if isinstance(mechanism, type) else getattr(mechanism, "parameter_kinds", {})
@@ -168,6 +176,7 @@ class Problem:
                 f"feasibility_margin is relative: it must be below 1, got {feasibility_margin}"
             )
         self.tol = validate.positive("tol", validate.number("tol", tol))
+        self.slots = None if slots is None else validate.integer("slots", slots, 1, 4096)
         self.objective: Measure | None = None
         self.sense = "min"
         self.constraints: list[Constraint] = []
@@ -258,6 +267,7 @@ class Problem:
             self.base_angles,
             self.feasibility_margin,
             self.tol,
+            self.slots,
         )
         new.objective, new.sense, new.constraints = (
             self.objective,
@@ -266,14 +276,17 @@ class Problem:
         )
         return new
 
-    def _transcription(self, n_extra: int = 16):
-        """The smooth program over the base grid and ``n_extra`` refinement slots: this
+    def _transcription(self, n_extra: int | None = None):
+        """The smooth program over the base grid and ``n_extra`` refinement slots (default
+        :attr:`slots`, else 16): this
         problem's bounds over the expression graph and solvers of its structure, which are
         built once and shared by every problem of the same structure (a module-level cache of
         a few structures, :mod:`.transcription`; none is held by the problem, so memory stays
         flat over many problems)."""
         from .transcription import Transcription
 
+        if n_extra is None:
+            n_extra = 16 if self.slots is None else self.slots
         return Transcription(self, n_extra)
 
     def _numeric(self):
@@ -289,7 +302,7 @@ class Problem:
         from ..errors import SolverError
 
         try:
-            self._transcription(16)
+            self._transcription()
         except SolverError as exc:
             return exc
         return None
@@ -405,11 +418,5 @@ class Problem:
 def _check_radians(what: str, values) -> None:
     """Angles are radians: a value beyond one turn is almost surely degrees typed as radians
     (``30`` for 30 deg); refused with the reading in radians it was probably meant to be."""
-    big = [float(v) for v in values if abs(float(v)) > 2.0 * np.pi + 1e-9]
-    if big:
-        v = big[0]
-        raise MechanismError(
-            f"{what} {v:g} rad is more than a turn ({np.rad2deg(v):.6g} deg): angles are in "
-            f"radians; for {v:g} deg write ms.deg({v:g}) = {np.deg2rad(v):.6g} rad "
-            '(in a file: "' + f'{v:g} deg")'
-        )
+    for v in values:
+        validate.radians_meant(what, v)

@@ -164,7 +164,10 @@ def parse_quantity(text, what: str = "value", unit: str | None = None) -> float:
     if isinstance(text, bool) or not isinstance(text, (int, float, str)):
         raise MechanismError(f"{what}: expected a number or '<number> <unit>', got {text!r}")
     if isinstance(text, (int, float)):
-        return validate.real(what, text)
+        v = validate.real(what, text)
+        if unit == "rad":
+            validate.radians_meant(what, v)
+        return v
     m = re.fullmatch(rf"\s*({_NUMBER})\s*([A-Za-z/^0-9]*)\s*", text)
     if not m:
         raise MechanismError(f"{what}: expected '<number> [unit]', got {text!r}")
@@ -180,7 +183,10 @@ def parse_quantity(text, what: str = "value", unit: str | None = None) -> float:
             f"{what}: {text!r} is {_DIMENSION.get(si, si)}, expected {expected} "
             f"({unit or 'no unit'}; units: {_units_for(unit or '1')})"
         )
-    return validate.real(what, float(m.group(1)) * UNITS[given])
+    v = validate.real(what, float(m.group(1)) * UNITS[given])
+    if unit == "rad" and not given:
+        validate.radians_meant(what, v)
+    return v
 
 
 def _parse_arg(token: str):

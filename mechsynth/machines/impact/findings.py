@@ -49,7 +49,7 @@ def six_link_variant(machine: ImpactMachine, rho=None, extra_rod=None) -> Impact
     p = machine.linkage.parameters
     if "KN" not in p:
         raise MechanismError("six_link_variant needs a six-link machine (a rod K-N)")
-    rho = float(p["N_guide_angle"]) if rho is None else validate.number("rho", rho, "rad")
+    rho = float(p["N_guide_angle"]) if rho is None else validate.angle("rho", rho)
     kn = float(p["KN"]) if extra_rod is None else validate.length("extra_rod", extra_rod)
     lk = six_link(
         rho,

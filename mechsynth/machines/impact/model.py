@@ -207,7 +207,7 @@ def five_link(
     rod = r["rod"] if rod is None else rod
     rocker = r["rocker"] if rocker is None else rocker
     rb = 0.055 if base_radius is None else validate.length("base_radius", base_radius)
-    rho = deg(r["rho_deg"]) if rho is None else validate.number("rho", rho, "rad")
+    rho = deg(r["rho_deg"]) if rho is None else validate.angle("rho", rho)
     margin = validate.positive("margin", margin, "rad")
     lo, hi = rocker_swing(ground, crank, rod, rocker)
     # the contact's roll angle: sigma = rho + pi/2 - phase - theta3 (rocker angle theta3)
