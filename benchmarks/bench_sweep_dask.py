@@ -7,8 +7,18 @@ cluster: ``--workers`` worker processes of one thread each, started once and war
 kernels loaded) before timing. Each configuration is timed ``--runs`` times (wall clock); the
 ratios to this process are printed, and the charts are checked identical.
 
-The per-task overhead: trivial tasks through ``Client.get_executor().map`` and through a spawned
-``ProcessPoolExecutor`` (the numbers :data:`mechsynth.synthesis.charts.TASK_OVERHEAD` holds).
+The per-task overhead: the round trip of a task that does nothing as the sweep measures it on
+the cluster (``charts.task_overhead``: one task at a time, the median of seven), trivial tasks
+through ``Client.get_executor().map`` (many in flight) and through a spawned
+``ProcessPoolExecutor`` (:data:`mechsynth.synthesis.charts.TASK_OVERHEAD`).
+
+``--address tcp://HOST:PORT`` runs the same on a cluster started elsewhere instead of a
+LocalCluster, e.g. a scheduler and two workers started from the shell on this machine::
+
+    dask scheduler --port 8786 &
+    dask worker tcp://127.0.0.1:8786 --nworkers 1 --nthreads 1 &
+    dask worker tcp://127.0.0.1:8786 --nworkers 1 --nthreads 1 &
+    python benchmarks/bench_sweep_dask.py --address tcp://127.0.0.1:8786
 
 Run: ``python benchmarks/bench_sweep_dask.py [--n 300 1000] [--workers 2] [--runs 3]``.
 """
@@ -16,6 +26,7 @@ Run: ``python benchmarks/bench_sweep_dask.py [--n 300 1000] [--workers 2] [--run
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import statistics
 import time
@@ -46,6 +57,7 @@ def main(argv=None):
     ap.add_argument("--n", type=int, nargs="+", default=[300, 1000])
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--runs", type=int, default=3)
+    ap.add_argument("--address", help="a running scheduler (tcp://host:port); else a LocalCluster")
     args = ap.parse_args(argv)
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
@@ -56,16 +68,26 @@ def main(argv=None):
 
     with ProcessPoolExecutor(2, mp_context=multiprocessing.get_context("spawn")) as pool:
         pool_task = per_task_seconds(pool, 2000)
-    with (
-        LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True,
-                     dashboard_address=None) as cluster,  # fmt: skip
-        Client(cluster) as client,
-    ):
+    if args.address:
+        cluster, where = contextlib.nullcontext(), args.address
+    else:
+        cluster = LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True,
+                               dashboard_address=None)  # fmt: skip
+        where = cluster
+    with cluster, Client(where) as client:
         ex = client.get_executor()
+        workers = client.scheduler_info()["workers"]
+        kind = f"cluster at {args.address}" if args.address else "LocalCluster"
+        print(f"{kind}: {len(workers)} workers x "
+              f"{sorted({w['nthreads'] for w in workers.values()})} threads")  # fmt: skip
+        t = time.perf_counter()
+        trip = charts.task_overhead(ex)
+        t_trip = time.perf_counter() - t
         dask_task = statistics.median(per_task_seconds(ex) for _ in range(3))
-        print(f"per-task overhead: Dask LocalCluster {dask_task * 1e3:.1f} ms, process pool "
-              f"{pool_task * 1e3:.2f} ms (load average {os.getloadavg()[0]:.1f}: a shared "
-              "machine)")  # fmt: skip
+        print(f"per-task overhead: Dask round trip as the sweep measures it {trip * 1e3:.1f} ms "
+              f"(measured in {t_trip * 1e3:.0f} ms, once per scheduler), many in flight "
+              f"{dask_task * 1e3:.1f} ms per task; process pool {pool_task * 1e3:.2f} ms "
+              f"(load average {os.getloadavg()[0]:.1f}: a shared machine)")  # fmt: skip
 
         def chart(n, executor):
             lam, eps = np.linspace(1.5, 8.0, n), np.linspace(0.0, 2.0, n)

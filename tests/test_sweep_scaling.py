@@ -4,7 +4,6 @@ several chunks -- and every chart unchanged (identical to small chunks, equal to
 1e-12)."""
 
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -117,34 +116,64 @@ class _DaskLike(ThreadPoolExecutor):
         return super().submit(fn, *args, **kwargs)
 
 
-def test_executor_tasks_hold_several_chunks_and_give_the_local_chart():
+def test_executor_tasks_hold_several_chunks_and_give_the_local_chart(monkeypatch):
+    monkeypatch.setattr(charts, "task_overhead", lambda executor: 8e-3)  # as measured on Dask
     local = charts.slider_crank_chart(**GRID, angles=36, progress=False, chunk=3)
     n_chunks = -(-local.size // 3)
     with _DaskLike(2) as pool:
         remote = charts.slider_crank_chart(**GRID, angles=36, progress=False, chunk=3,
                                            executor=pool)  # fmt: skip
     _identical(remote, local)
-    # each task at least 20 x Dask's per-task overhead, at least 8 tasks
+    # each task's overhead at most 5 % of its work, at least 8 tasks
     assert 8 <= _DaskLike.tasks < n_chunks
 
 
-def test_chunks_per_task_follow_the_measured_costs():
+def test_chunks_per_task_follow_the_measured_costs(monkeypatch):
     spec = charts._SweepSpec(ms.SliderCrank, {}, (1,), 1456, {}, None, None, {},
                              ms.cycle(360), None, True)  # fmt: skip
     dask, pool = _DaskLike(1), ThreadPoolExecutor(1)
+    monkeypatch.setattr(charts, "_OVERHEADS", {id(dask): 8e-3})  # as if measured on it
     try:
         chunk_s = 1456 * 360 * charts.EVALUATION_COST["named kernel"]
-        want = int(np.ceil(20 * charts.TASK_OVERHEAD["distributed"] / chunk_s))
+        want = int(np.ceil(8e-3 / charts.TASK_OVERHEAD_SHARE / chunk_s))
+        assert charts.TASK_OVERHEAD_SHARE == 0.05
         assert charts._chunks_per_task(dask, spec, 8, 10_000) == want > 1
         assert charts._chunks_per_task(dask, spec, 8, 16) == 2  # 8 tasks left to share
-        assert charts._chunks_per_task(pool, spec, 8, 10_000) == 1  # a pool's task is cheap
-        # the numpy model's chunks are long enough for Dask's overhead
+        # a pool's task costs 0.2 ms: two chunks of 3.8 ms outweigh it 20 times
+        pool_want = int(np.ceil(charts.TASK_OVERHEAD["default"] / 0.05 / chunk_s))
+        assert charts._chunks_per_task(pool, spec, 8, 10_000) == pool_want < want
         model = charts._SweepSpec(ms.SliderCrank, {}, (1,), 182, {}, None, None, {},
                                   ms.cycle(360), None, False)  # fmt: skip
-        assert charts._chunks_per_task(dask, model, None, 10_000) == 2
+        model_s = 182 * 360 * charts.EVALUATION_COST["model"]
+        want = int(np.ceil(8e-3 / 0.05 / model_s))
+        assert charts._chunks_per_task(dask, model, None, 10_000) == want > 1
     finally:
         dask.shutdown()
         pool.shutdown()
+
+
+class _Scheduler:
+    address = "tcp://scheduler.invalid:8786"
+
+
+class _Client:
+    scheduler = _Scheduler()
+
+
+def test_a_dask_clusters_overhead_is_measured_on_it_once(monkeypatch):
+    """The round trip of a task that does nothing, measured the first time a sweep meets the
+    cluster's scheduler, remembered by its address; other executors: the measured constant."""
+    monkeypatch.setattr(charts, "_OVERHEADS", {})
+    _DaskLike.tasks = 0
+    with _DaskLike(1) as dask:
+        dask._client = _Client()
+        first = charts.task_overhead(dask)
+        assert _DaskLike.tasks == 8  # one to warm up, the median of seven
+        assert 0 < first < 0.5
+        assert charts.task_overhead(dask) == first and _DaskLike.tasks == 8
+        assert charts._OVERHEADS == {_Scheduler.address: first}
+    with ThreadPoolExecutor(1) as pool:
+        assert charts.task_overhead(pool) == charts.TASK_OVERHEAD["default"]
 
 
 @kernels
@@ -156,37 +185,22 @@ def test_a_linkage_chart_on_its_kernel_with_default_chunks_equals_the_model(monk
         .attach("K", on=("D", "B"), along=-0.05)
         .rrp("N", ("K", 0.10), guide=((0.12, 0.0), ms.deg(57)))
     )
+    from mechsynth.kinematics import linkage_kernels as lkk
+
     monkeypatch.setattr(charts, "LINKAGE_KERNEL_MIN", 0)
+    monkeypatch.setattr(charts, "LINKAGE_KERNEL_CACHED_MIN", 0)
+    lkk.linkage_kernel(six)  # ready before the sweeps (else their first chunks use the model)
+    batches = []
+    real = lkk.linkage_batch
+    monkeypatch.setattr(lkk, "linkage_batch", lambda *a, **k: batches.append(1) or real(*a, **k))
     grid = {"DB": np.linspace(0.03, 0.16, 21), "AB": np.linspace(0.09, 0.15, 17)}
     measures = {"peak velocity": ob.peak_velocity(), "pressure": ob.max_pressure_angle()}
     kw = dict(angles=120, speed=ms.rpm(600), progress=False)
     fast = charts.sweep(six, grid, measures, **kw)
+    assert batches  # on the kernel
     _identical(fast, charts.sweep(six, grid, measures, chunk=11, **kw))
     _close(fast, charts.sweep(six, grid, measures, kernels=False, **kw))
     assert 0 < fast.feasible.sum() < fast.size
-
-
-def test_a_linkage_sweep_takes_its_kernel_from_the_measured_thresholds(monkeypatch):
-    """Below LINKAGE_KERNEL_CACHED_MIN evaluations: the model; from it, the kernel when this
-    machine has compiled it; from LINKAGE_KERNEL_MIN, the kernel (compiled if need be)."""
-    from mechsynth.kinematics import linkage_kernels as lkk
-
-    six = ms.six_link()
-
-    def spec(designs):
-        return charts._SweepSpec(six, {}, (designs,), 1, {}, None, None, {}, ms.cycle(100),
-                                 None, True)  # fmt: skip
-
-    monkeypatch.setattr(charts, "LINKAGE_KERNEL_CACHED_MIN", 1e4)
-    monkeypatch.setattr(charts, "LINKAGE_KERNEL_MIN", 1e6)
-    built = []
-    monkeypatch.setattr(lkk, "linkage_kernel", lambda lk: built.append(lk) or "kernel")
-    for compiled in (False, True):
-        monkeypatch.setattr(lkk, "is_compiled", lambda lk, c=compiled: c)
-        assert charts._linkage_kernel(spec(99)) is None  # 9,900 evaluations
-        assert charts._linkage_kernel(spec(100)) == ("kernel" if compiled else None)
-        assert charts._linkage_kernel(spec(10_000)) == "kernel"
-    assert charts._linkage_kernel(replace(spec(10_000), kernels=False)) is None
 
 
 @kernels

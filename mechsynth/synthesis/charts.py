@@ -499,6 +499,7 @@ class _SweepSpec:
     phi: np.ndarray
     speed: Any
     kernels: bool
+    linkage_kernel: bool = False  # a Linkage's sweep that runs on its kernel once it is ready
 
 
 @dataclass(frozen=True)
@@ -515,8 +516,10 @@ class _BlockResult:
 _LOCAL = threading.local()  # one reused kinematics workspace per thread
 
 
-def _sweep_block(spec: _SweepSpec, c: int) -> _BlockResult | None:
-    """Evaluate chunk ``c`` of a sweep: designs ``c * chunk`` ... of the flattened grid."""
+def _sweep_block(spec: _SweepSpec, c: int, build: bool = True) -> _BlockResult | None:
+    """Evaluate chunk ``c`` of a sweep: designs ``c * chunk`` ... of the flattened grid (a
+    Linkage's on its kernel if it is ready, else on the model; ``build``: as
+    :func:`_kernel_now`)."""
     total = int(np.prod(spec.shape))
     start = c * spec.chunk
     idx = np.arange(start, min(total, start + spec.chunk))
@@ -568,7 +571,7 @@ def _sweep_block(spec: _SweepSpec, c: int) -> _BlockResult | None:
         if isinstance(v, np.ndarray) and v.ndim == 1:
             params_out[name] = v
     compiled = [spec.kernels]  # cleared when a measure needs what the compiled motion lacks
-    kernel = _linkage_kernel(spec)
+    kernel = _kernel_now(spec, build)
 
     def motion_of(mech):
         if compiled[0]:
@@ -652,38 +655,116 @@ def _sweep_block(spec: _SweepSpec, c: int) -> _BlockResult | None:
     return result()
 
 
-#: design-angle evaluations from which a Linkage's sweep runs on a kernel compiled for its
-#: structure (:mod:`~mechsynth.kinematics.linkage_kernels`) when this machine has not compiled
-#: it yet. Measured on 2 cores (bench_linkage_paths.py --compile, bench_linkage_compiled.py,
-#: a busy machine): the first compilation of a six-bar's kernel takes 9-14 s, once per machine;
-#: in a chart the numpy model evaluates 1.6-4.5e6 design-angle points per second, the kernel
-#: 0.7-1.6e7, so 1e7 evaluations take 2.2-6 s on the model and 0.6-1.4 s on the kernel: the
-#: compilation pays back within the first two or three charts of this size, and every later one
-#: starts from the cached kernel.
-LINKAGE_KERNEL_MIN = 1e7
+#: seconds measured for a Linkage's sweep on this 2-core machine while shared (load average
+#: about 9; ``benchmarks/bench_sweep_switch.py``: paper 001's six-link, 360 crank angles, two
+#: measures, chunks of the sweep's size), per kernel backend (``linkage_kernels.kernel_backend``;
+#: numba where the kernels module has no other): ``"model"`` and ``"kernel"``, CPU per
+#: design-angle evaluation of a chunk (motion and measures) on the numpy model and on the
+#: compiled kernel; ``"compile"``, CPU of the first build of its kernel (the process's and the
+#: C compiler's; ``"compile wall"`` its wall time, which the sweep does not wait for);
+#: ``"load"``, CPU of a built kernel's load from the disk cache in a new process (numba's import
+#: and start included; ``"load wall"`` its wall time). Wall times grow with the machine's load
+#: (a numba load took 0.8-0.9 s at a load average of 2).
+LINKAGE_COSTS = {
+    "numba": {
+        "model": 1.37e-7,
+        "kernel": 8.9e-8,
+        "compile": 5.6,
+        "compile wall": 16.0,
+        "load": 0.60,
+        "load wall": 2.8,
+    },
+    "c": {
+        "model": 1.27e-7,
+        "kernel": 8.0e-8,
+        "compile": 0.66,
+        "compile wall": 2.5,
+        "load": 0.0047,
+        "load wall": 0.011,
+    },
+}
 
-#: design-angle evaluations from which a Linkage's sweep runs on its kernel when the kernel is
-#: compiled already (in this process, or recorded in the disk cache): a load then costs 0.8-1.2
-#: s in a new process (numba's import and start; the kernel itself loads in about 0.01 s, found
-#: by its structure without tracing), about 1.6-5e-7 s saved per evaluation against the model:
-#: even from 2.5-7e6 evaluations
-LINKAGE_KERNEL_CACHED_MIN = 4e6
+
+def _backend() -> str:
+    """This process's kernel backend, without importing numba (numba when the kernels module
+    names none)."""
+    from ..kinematics import linkage_kernels
+
+    which = getattr(linkage_kernels, "kernel_backend", None)
+    name = which(probe=False) if which is not None else "numba"
+    return name if name in LINKAGE_COSTS else "numba"
 
 
-def _linkage_kernel(spec):
-    """The compiled kernel for a Linkage's sweep (None: the model evaluates it)."""
+def _pays_back(build: str, costs: dict | None = None) -> float:
+    """Design-angle evaluations from which a kernel's ``build`` (``"compile"`` or ``"load"``)
+    pays for itself within one sweep: the sweep goes on with the model while the kernel is
+    built (``build wall`` seconds, ``wall / model`` evaluations), and the evaluations left when
+    it arrives save ``model - kernel`` seconds each, at least the build's CPU."""
+    c = costs or LINKAGE_COSTS[_backend()]
+    return c[build] / (c["model"] - c["kernel"]) + c[f"{build} wall"] / c["model"]
+
+
+#: design-angle evaluations from which a Linkage's sweep has the kernel of its structure
+#: built (:mod:`~mechsynth.kinematics.linkage_kernels`) when this machine has not built it yet;
+#: None: :func:`_pays_back` on the costs of this process's backend (:data:`LINKAGE_COSTS`) --
+#: the build pays for itself within the sweep that starts it, and such a sweep outlasts it on
+#: the model alone (so a process never waits at its exit for a build it started for a chart):
+#: 3.3e7 evaluations with a C compiler (0.66 s of CPU, 2.5 s, 47 ns saved per evaluation; a
+#: 300 x 300 six-link chart from an empty cache ran 85 % of its chunks on the kernel, 12.7 s
+#: against 14.2 s on the model alone), 2.3e8 with numba (5.6 s of CPU, 16 s; a chart of 3.2e7
+#: evaluations ended before numba's kernel arrived). Below it, ``linkage_kernel(linkage)``
+#: builds a structure's kernel once for the machine.
+LINKAGE_KERNEL_MIN: float | None = None
+
+#: design-angle evaluations from which a Linkage's sweep takes its kernel when it is built
+#: already (in this process, or recorded in the disk cache); None: :func:`_pays_back` of a
+#: load: 1.9e5 evaluations for a C kernel (5 ms of CPU), 3.3e7 for numba's (0.6 s, 2.8 s)
+LINKAGE_KERNEL_CACHED_MIN: float | None = None
+
+
+def linkage_kernel_thresholds() -> tuple[float, float]:
+    """Design-angle evaluations from which a Linkage's sweep runs on its kernel: ``(when it
+    must be built, when it is built already)`` (:data:`LINKAGE_KERNEL_MIN`,
+    :data:`LINKAGE_KERNEL_CACHED_MIN`, else from the measured :data:`LINKAGE_COSTS`)."""
+    build = LINKAGE_KERNEL_MIN if LINKAGE_KERNEL_MIN is not None else _pays_back("compile")
+    cached = LINKAGE_KERNEL_CACHED_MIN
+    return build, cached if cached is not None else _pays_back("load")
+
+
+def _wants_kernel(spec) -> bool:
+    """Whether a Linkage's sweep should run on its compiled kernel (the thresholds above; no
+    numba import, nothing built)."""
     from ..kinematics.linkage import Linkage
 
     if not (spec.kernels and isinstance(spec.mechanism, Linkage)):
-        return None
+        return False
+    from ..kinematics.linkage_groups import FollowerGroup
+
+    if any(isinstance(g, FollowerGroup) for g in spec.mechanism.groups):
+        return False  # no kernel for a cam follower
     evaluations = int(np.prod(spec.shape)) * spec.phi.size
-    if evaluations < LINKAGE_KERNEL_CACHED_MIN:
+    build, cached = linkage_kernel_thresholds()
+    if evaluations < min(build, cached):
+        return False
+    from ..kinematics import linkage_kernels
+
+    return evaluations >= build or linkage_kernels.is_compiled(spec.mechanism)
+
+
+def _kernel_now(spec, build: bool = True):
+    """The compiled kernel of a sweep that wants one (:func:`_wants_kernel`) if it is ready,
+    else None at once: the model evaluates meanwhile. ``build``: start building it in the
+    background if need be (the sweep's own process); else (an executor's task) only load it
+    when the disk cache holds it -- the sweep's process has it built there once, instead of
+    every worker compiling it."""
+    if not spec.linkage_kernel:
         return None
     from ..kinematics import linkage_kernels
 
-    if evaluations < LINKAGE_KERNEL_MIN and not linkage_kernels.is_compiled(spec.mechanism):
+    mech = spec.mechanism
+    if not build and not linkage_kernels.is_compiled(mech):
         return None
-    return linkage_kernels.linkage_kernel(spec.mechanism)
+    return linkage_kernels.linkage_kernel(mech, wait=False)
 
 
 def _dumps(spec) -> bytes:
@@ -719,7 +800,7 @@ def _remote_block(payload: bytes, c: int, count: int = 1) -> _BlockResult | None
         _keep_freed_memory()  # the worker's malloc, as the sweep's own process
         _SPECS.clear()
         spec = _SPECS[key] = pickle.loads(payload)
-    return _joined([_sweep_block(spec, i) for i in range(c, c + count)])
+    return _joined([_sweep_block(spec, i, build=False) for i in range(c, c + count)])
 
 
 def _joined(blocks) -> _BlockResult | None:
@@ -752,14 +833,20 @@ KERNEL_BLOCK = 2**22
 MODEL_CHUNK = 2**16
 
 #: seconds an executor spends per task beyond its work (send, schedule, receive), measured on
-#: 2 cores (benchmarks/bench_sweep_dask.py): a Dask LocalCluster 4-9 ms per task, a process pool
-#: 0.14 ms; other executors are taken as a process pool
-TASK_OVERHEAD = {"distributed": 8e-3, "default": 2e-4}
+#: 2 cores (benchmarks/bench_sweep_dask.py): a spawned process pool 0.11-0.20 ms per task (and
+#: any executor other than Dask's). A Dask cluster's is measured on the cluster itself, once
+#: per scheduler (:func:`task_overhead`): 4-9 ms on a LocalCluster of this machine.
+TASK_OVERHEAD = {"default": 2e-4}
+
+#: the share of a task's time its overhead may take: tasks get enough chunks that the
+#: executor's per-task overhead is at most 5 % of their work
+TASK_OVERHEAD_SHARE = 0.05
 
 #: seconds per design-angle evaluation of a chunk with its measures, measured on 2 cores, one
-#: thread (bench_sweep_scaling.py, bench_linkage_compiled.py): the four-bar and slider-crank
-#: kernels, a Linkage's generated kernel, the numpy model
-EVALUATION_COST = {"named kernel": 1.5e-8, "linkage kernel": 8e-8, "model": 1.5e-6}
+#: thread (bench_sweep_switch.py): the slider-crank chart on its kernel (``"named kernel"``)
+#: and on the numpy model (``"model"``, the cheapest model measured: a task of model chunks
+#: is never shorter than planned), paper 001's six-link on its generated kernel
+EVALUATION_COST = {"named kernel": 7.2e-9, "linkage kernel": 8.3e-8, "model": 3.2e-8}
 
 
 def _default_chunk(spec, kernel_rows: int | None) -> int:
@@ -772,26 +859,66 @@ def _default_chunk(spec, kernel_rows: int | None) -> int:
 
 
 def _kernel_rows(spec) -> int | None:
-    """Rows of the kernels' block per evaluation when the sweep runs on compiled kernels."""
-    kernel = _linkage_kernel(spec)
+    """Rows of the kernels' block per evaluation when the sweep runs on compiled kernels (a
+    Linkage's when its kernel is ready: a sweep that starts on the model keeps the model's
+    chunks, about the size of a six-bar kernel's), else None. Starts a Linkage's kernel
+    building in the background when the sweep wants it."""
+    kernel = _kernel_now(spec)
     if kernel is not None:
         return kernel.outputs
-    return 8 if _on_kernels(spec) else None
+    return 8 if _on_named_kernels(spec) else None
 
 
 def _chunks_per_task(executor, spec, rows, n_chunks) -> int:
-    """Chunks one executor task evaluates: enough that the task's work is at least 20 times the
-    executor's per-task overhead (:data:`TASK_OVERHEAD`), while leaving at least 8 tasks to
-    share among the workers."""
-    module = type(executor).__module__ or ""
-    overhead = TASK_OVERHEAD["distributed" if module.startswith("distributed") else "default"]
+    """Chunks one executor task evaluates: enough that the executor's per-task overhead
+    (:func:`task_overhead`) is at most :data:`TASK_OVERHEAD_SHARE` of the task's work
+    (:data:`EVALUATION_COST`), while leaving at least 8 tasks to share among the workers."""
+    overhead = task_overhead(executor)
     if rows is None:
         cost = EVALUATION_COST["model"]
     else:
         cost = EVALUATION_COST["linkage kernel" if rows != 8 else "named kernel"]
     work = spec.chunk * spec.phi.size * cost  # seconds per chunk
-    want = int(np.ceil(20.0 * overhead / max(work, 1e-12)))
+    want = int(np.ceil(overhead / TASK_OVERHEAD_SHARE / max(work, 1e-12)))
     return int(max(1, min(want, n_chunks // 8)))
+
+
+_OVERHEADS: dict = {}  # a Dask cluster's measured per-task overhead, by scheduler address
+
+
+def _is_dask(executor) -> bool:
+    return (type(executor).__module__ or "").startswith("distributed")
+
+
+def task_overhead(executor) -> float:
+    """Seconds ``executor`` spends per task beyond its work. A Dask cluster's executor
+    (``Client(...).get_executor()``): measured on it the first time, as the median round trip
+    of a task that does nothing (sent, run on a worker, its result back: :func:`round_trip`),
+    then remembered for its scheduler's address. Other executors:
+    :data:`TASK_OVERHEAD` ``["default"]``, a spawned process pool's, measured."""
+    if not _is_dask(executor):
+        return TASK_OVERHEAD["default"]
+    client = getattr(executor, "_client", None)
+    key = getattr(getattr(client, "scheduler", None), "address", None) or id(executor)
+    if key not in _OVERHEADS:
+        _OVERHEADS[key] = round_trip(executor)
+    return _OVERHEADS[key]
+
+
+def _nothing(x):
+    return x
+
+
+def round_trip(executor, n: int = 7) -> float:
+    """Median seconds of ``n`` tasks that do nothing, each sent through ``executor`` and its
+    result awaited before the next (after one to warm up)."""
+    executor.submit(_nothing, -1).result()
+    times = []
+    for i in range(n):
+        t = time.perf_counter()
+        executor.submit(_nothing, i).result()
+        times.append(time.perf_counter() - t)
+    return float(np.median(times))
 
 
 _EXECUTOR: contextvars.ContextVar = contextvars.ContextVar("sweep_executor", default=None)
@@ -813,15 +940,18 @@ def cores() -> int:
         return os.cpu_count() or 1
 
 
-def _on_kernels(spec) -> bool:
-    """Whether the sweep's motion runs on the compiled batch kernels (threads of their own)."""
+def _on_named_kernels(spec) -> bool:
+    """Whether the sweep's motion runs on the four-bar or slider-crank kernels."""
     from ..kinematics.compiled import numba_available
     from ..kinematics.four_bar import FourBar
     from ..kinematics.slider_crank import SliderCrank
 
-    if spec.kernels and spec.mechanism in (SliderCrank, FourBar) and numba_available():
-        return True
-    return _linkage_kernel(spec) is not None
+    return spec.kernels and spec.mechanism in (SliderCrank, FourBar) and numba_available()
+
+
+def _on_kernels(spec) -> bool:
+    """Whether the sweep's motion runs on compiled kernels (a Linkage's: once it is ready)."""
+    return _on_named_kernels(spec) or spec.linkage_kernel
 
 
 def _pool_size(executor, spec, total, n_chunks) -> int:
@@ -933,13 +1063,20 @@ def sweep(
         :data:`LINKAGE_KERNEL_CACHED_MIN` when this machine has compiled it; numba installed),
         streaming the chunks through one reused workspace; the model's ``motion`` evaluates the
         rest, the designs a linkage's kernel cannot vouch for, and every measure that needs
-        more than the kernels give (a point's track). False: always the model (the reference
-        the tests compare with).
+        more than the kernels give (a point's track). A sweep never waits for a Linkage's
+        kernel: while it is loaded or compiled in the background
+        (``linkage_kernel(..., wait=False)``) the chunks run on the model, and the next chunk
+        after it is ready runs on it (the values equal to 1e-12 either way). False: always the
+        model (the reference the tests compare with).
     executor : a :class:`concurrent.futures.Executor` that evaluates the chunks (e.g.
         ``ProcessPoolExecutor()``, or ``dask.distributed.Client(address).get_executor()`` for
         a cluster); each task evaluates a run of consecutive chunks where it runs -- enough
-        work to outweigh the executor's measured per-task cost (:data:`TASK_OVERHEAD`), at
-        least 8 tasks -- and returns only their measures, feasibility and parameters. The
+        that the executor's per-task overhead (:func:`task_overhead`: a Dask cluster's
+        measured on it once) is at most 5 % of the task's work, at least 8 tasks -- and
+        returns only their measures, feasibility and parameters. A Linkage's kernel is built
+        by this process, in the background, into the disk cache; a task loads it from there
+        when it is there and otherwise evaluates on the model (workers never compile it:
+        workers on other hosts use the kernel their host's cache holds). The
         sweep's functions travel by pickle (by cloudpickle when plain pickle cannot take them,
         e.g. local functions). ``"processes"``:
         a pool of fresh processes, one per core, for this sweep (a script must guard its main
@@ -1019,6 +1156,7 @@ def sweep(
         speed=speed,
         kernels=bool(kernels),
     )
+    spec = replace(spec, linkage_kernel=_wants_kernel(spec))
     rows = _kernel_rows(spec)
     if chunk is None:
         spec = replace(spec, chunk=_default_chunk(spec, rows))
