@@ -1,25 +1,38 @@
 """Compiled kernels generated from a Linkage's own solve: every output equal to the model's
-motion to 1e-12 on batches of designs, for every kind of group; the designs the kernel marks as
-failed are the ones the model cannot assemble; a linkage chart on the kernel is the model's."""
+motion to 1e-12 on batches of designs, for every kind of group, on both code generators (C and
+numba); the designs the kernel marks as failed are the ones the model cannot assemble; a
+linkage chart on the kernel is the model's."""
 
 import numpy as np
 import pytest
+from test_linkage import FIELDS, LINK_FIELDS, nail_header_linkage, six_link
+from test_linkage_cam import five_link
+from test_linkage_slider import cylinder_rocker, trammel
 
 import mechsynth as ms
 from mechsynth.errors import MechanismError
 from mechsynth.kinematics import linkage_kernels as lkk
+from mechsynth.machines.nail_header import NailHeader
 from mechsynth.objectives.kinematic import peak_velocity
 from mechsynth.synthesis import charts
 
-pytest.importorskip("numba")
-
-from test_linkage import FIELDS, LINK_FIELDS, nail_header_linkage, six_link  # noqa: E402
-from test_linkage_cam import five_link  # noqa: E402
-from test_linkage_slider import cylinder_rocker, trammel  # noqa: E402
-
-from mechsynth.machines.nail_header import NailHeader  # noqa: E402
-
 PHI = ms.cycle(90)
+
+
+@pytest.fixture(params=["c", "numba"])
+def backend(request, monkeypatch):
+    """The kernels' code generator, chosen through the environment (skipped where absent)."""
+    monkeypatch.setenv(lkk.BACKEND_ENV, request.param)
+    if lkk.kernel_backend() != request.param:
+        pytest.skip(f"no {request.param} kernels on this machine")
+    return request.param
+
+
+@pytest.fixture
+def numba_backend(monkeypatch):
+    monkeypatch.setenv(lkk.BACKEND_ENV, "numba")
+    if lkk.kernel_backend() != "numba":
+        pytest.skip("numba is not installed")
 
 
 def carried_guide():
@@ -82,10 +95,10 @@ def _same_motion(m1, m2, tol=1e-12):
 
 @pytest.mark.parametrize("name", list(LINKAGES))
 @pytest.mark.parametrize("speed", [None, ms.rpm(600)])
-def test_kernel_equals_the_models_motion(name, speed):
+def test_kernel_equals_the_models_motion(name, speed, backend):
     lk, batch = _batch(name)
     kernel = lkk.linkage_kernel(lk)
-    assert kernel is not None, name
+    assert kernel is not None and kernel.backend == backend, name
     phi = _phi(lk)
     motion, good, failed = lkk.linkage_batch(batch, phi, speed=speed, kernel=kernel)
     assert good.all() and not failed.any()
@@ -93,27 +106,28 @@ def test_kernel_equals_the_models_motion(name, speed):
 
 
 @pytest.mark.parametrize("name", ["six-link", "carried guide", "driving slider"])
-def test_one_design_on_the_kernel_equals_the_models_motion(name):
+def test_one_design_on_the_kernel_equals_the_models_motion(name, backend):
     """A design of numbers goes to the kernel as one row (the batch path's columns skipped);
-    angles that are a view, read-only or of another dtype are copied once, never a new
-    compiled signature."""
+    angles that are a view, read-only or of another dtype are copied once (numba: never a new
+    compiled signature)."""
     lk, _ = _batch(name)
     kernel = lkk.linkage_kernel(lk)
     phi = _phi(lk)
     motion, good, failed = lkk.linkage_batch(lk, phi, speed=ms.rpm(600), kernel=kernel)
     assert good.all() and not failed.any()
     _same_motion(lk.motion(phi, speed=ms.rpm(600)), motion)
-    signatures = len(kernel.serial.signatures)
+    numba = backend == "numba"
+    signatures = len(kernel.serial.signatures) if numba else 0
     frozen = phi.copy()
     frozen.flags.writeable = False
     wide = np.repeat(phi, 2)[::2]  # a strided view
     for grid in (frozen, wide, phi.astype(">f8"), list(phi)):
         again, _, _ = lkk.linkage_batch(lk, grid, speed=ms.rpm(600), kernel=kernel)
         _same_motion(motion, again, tol=1e-15)
-    assert len(kernel.serial.signatures) == signatures
+    assert (len(kernel.serial.signatures) if numba else 0) == signatures
 
 
-def test_a_workspace_motion_is_views_of_its_block_and_its_dicts_its_own():
+def test_a_workspace_motion_is_views_of_its_block_and_its_dicts_its_own(backend):
     """The motion of a batch is made of views of the kernel's block, remembered for the
     workspace's block: a later call into the same block gives a motion of fresh dicts over the
     same views, a grown block new views; another main output has its own recipe."""
@@ -151,10 +165,10 @@ def test_a_kernel_built_behind_the_caller_never_blocks_it(monkeypatch):
     monkeypatch.setattr(lkk, "_KERNELS", {})  # as in a process that has not built it
     release, calls, real = threading.Event(), [], lkk._built
 
-    def slow_build(linkage, key):
+    def slow_build(linkage, key, *backend):
         calls.append(key)
         assert release.wait(60)
-        return real(linkage, key)
+        return real(linkage, key, *backend)
 
     monkeypatch.setattr(lkk, "_built", slow_build)
     t = time.perf_counter()
@@ -180,7 +194,7 @@ def test_a_failed_background_build_leaves_the_blocking_call_to_report(monkeypatc
     monkeypatch.setattr(lkk, "_KERNELS", {})
     monkeypatch.setattr(lkk, "_FAILED", set())
 
-    def broken(linkage, key):
+    def broken(linkage, key, *backend):
         raise OSError("disk full")
 
     monkeypatch.setattr(lkk, "_built", broken)
@@ -194,25 +208,29 @@ def test_a_failed_background_build_leaves_the_blocking_call_to_report(monkeypatc
         lkk.linkage_kernel(lk)
 
 
-def test_kernel_is_one_per_structure_and_kept_on_disk():
+def test_kernel_is_one_per_structure_and_kept_on_disk(backend):
     lk = six_link()
     k1 = lkk.linkage_kernel(lk)
     assert lkk.linkage_kernel(lk(DB=0.081, AB=0.121)) is k1  # values are not the structure
     assert lkk.linkage_kernel(lk.rename(DB="rocker")) is not k1
-    files = list(lkk.cache_dir().glob("mechsynth_linkage_*.py"))
+    files = list(lkk.cache_dir().glob(f"mechsynth_linkage_*.{'c' if backend == 'c' else 'py'}"))
     assert any(f.read_text() == k1.source for f in files)
     # the generated loop calls no libm sine or cosine: those of the input come from the grid,
     # those of link angles from their arctan2's arguments
-    loop = k1.source.split("for j in range")[1]
-    assert "so.cos" not in loop and "so.sin" not in loop and "so.arccos" not in loop
+    if backend == "numba":
+        loop = k1.source.split("for j in range")[1]
+        assert "so.cos" not in loop and "so.sin" not in loop and "so.arccos" not in loop
+    else:
+        loop = k1.source.split("for (int64_t j = j0")[1]
+        assert "cos(" not in loop and "sin(" not in loop and "acos(" not in loop
 
 
-def test_a_kernel_is_found_by_its_structure_without_tracing(monkeypatch):
+def test_a_kernel_is_found_by_its_structure_without_tracing(monkeypatch, backend):
     """The structure's record gives the traced kernel's parameters, layout and source; a record
     whose module differs from its digest is not used (the solve is traced again)."""
     lk = six_link()
     kernel = lkk.linkage_kernel(lk)
-    index = lkk._index_path(lkk._structure(lk))
+    index = lkk._index_path(lkk._structure(lk), backend)
     assert index.is_file()
     assert lkk._read_index(index) == (kernel.names, kernel.layout, kernel.source)
     monkeypatch.setattr(lkk, "_KERNELS", {})
@@ -224,9 +242,11 @@ def test_a_kernel_is_found_by_its_structure_without_tracing(monkeypatch):
     ref, _ = kernel(np.array([[lk.parameters[k] for k in kernel.names]]), phi)
     np.testing.assert_array_equal(out, ref)
     # another structure has another record; a different model (its source files) another key
-    assert lkk._index_path(lkk._structure(lk.rename(DB="rocker"))) != index
+    assert lkk._index_path(lkk._structure(lk.rename(DB="rocker")), backend) != index
+    other = "numba" if backend == "c" else "c"
+    assert lkk._index_path(lkk._structure(lk), other) != index  # each generator its record
     monkeypatch.setattr(lkk, "_model_digest", lambda: "another model")
-    assert lkk._index_path(lkk._structure(lk)) != index
+    assert lkk._index_path(lkk._structure(lk), backend) != index
 
 
 def test_a_damaged_structure_record_is_not_used(tmp_path, monkeypatch):
@@ -252,7 +272,7 @@ def test_cache_dir_follows_the_environment(tmp_path, monkeypatch):
     assert lkk.cache_dir().is_dir()
 
 
-def test_failed_designs_are_those_the_model_cannot_assemble():
+def test_failed_designs_are_those_the_model_cannot_assemble(backend):
     """Rockers from far too short to far too long: the kernel's verdicts agree with the model
     design by design (good: the model's values; failed: the model raises)."""
     lk = six_link()
@@ -285,7 +305,7 @@ def test_no_kernel_for_cam_followers_symbolic_values_or_angle_arrays():
 
 
 @pytest.mark.parametrize("name", ["six-link", "driving slider"])
-def test_linkage_chart_on_the_kernel_is_the_models(name, monkeypatch):
+def test_linkage_chart_on_the_kernel_is_the_models(name, monkeypatch, backend):
     lk, _ = _batch(name)
     param = LINKAGES[name][1]
     ref = lk.parameters[param]
@@ -309,7 +329,7 @@ def test_linkage_chart_on_the_kernel_is_the_models(name, monkeypatch):
     assert fast.reason == model.reason
 
 
-def test_kernel_scales_the_analogs_with_speed_and_acceleration():
+def test_kernel_scales_the_analogs_with_speed_and_acceleration(backend):
     """The kernel's rows at (omega, epsilon) are the model's time derivatives."""
     lk, batch = _batch("six-link")
     kernel = lkk.linkage_kernel(lk)
@@ -331,7 +351,7 @@ def test_kernel_scales_the_analogs_with_speed_and_acceleration():
         )
 
 
-def test_threaded_loop_equals_the_serial_one():
+def test_threaded_loop_equals_the_serial_one(backend):
     lk, batch = _batch("six-link", n=16)
     kernel = lkk.linkage_kernel(lk)
     params = np.column_stack(
@@ -384,7 +404,7 @@ def test_a_later_process_loads_the_kernel_from_the_disk_cache(tmp_path):
     import subprocess
     import sys
 
-    env = {**os.environ, "MECHSYNTH_CACHE_DIR": str(tmp_path)}
+    env = {**os.environ, "MECHSYNTH_CACHE_DIR": str(tmp_path), lkk.BACKEND_ENV: "numba"}
     runs = [
         subprocess.run(
             [sys.executable, "-c", _SECOND_PROCESS], env=env, capture_output=True, text=True,
@@ -401,6 +421,45 @@ def test_a_later_process_loads_the_kernel_from_the_disk_cache(tmp_path):
     assert runs[1].stdout.split() == ["True", "0", "1", "False"]
     assert len(list(tmp_path.rglob("structure_*.json"))) == 1
     assert len(list(tmp_path.rglob("mechsynth_linkage_*.py"))) == 1  # one module, not two
+
+
+_SECOND_PROCESS_C = """
+import sys, time
+t = time.perf_counter()
+import mechsynth as ms
+from mechsynth.kinematics import linkage_kernels as lkk
+lk = ms.six_link()
+t0 = time.perf_counter()
+kernel = lkk.linkage_kernel(lk)
+print(kernel.backend, time.perf_counter() - t0, "casadi" in sys.modules, "numba" in sys.modules)
+"""
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(lkk.c_compiler() is None, reason="no C compiler")
+def test_a_later_process_loads_the_c_kernel_from_the_disk_cache(tmp_path):
+    """C: the first process traces and compiles (one shared library in the cache); the next
+    finds the structure's record and loads the library -- no CasADi, no numba, no compiler."""
+    import os
+    import subprocess
+    import sys
+
+    env = {**os.environ, "MECHSYNTH_CACHE_DIR": str(tmp_path), lkk.BACKEND_ENV: "c"}
+    runs, libs = [], []
+    for _ in range(2):
+        r = subprocess.run(
+            [sys.executable, "-c", _SECOND_PROCESS_C], env=env, capture_output=True, text=True,
+            timeout=600,
+        )  # fmt: skip
+        assert r.returncode == 0, r.stderr
+        runs.append(r.stdout.split())
+        libs.append({p: p.stat().st_mtime_ns for p in tmp_path.rglob("mechsynth_linkage_*.so")})
+    assert len(libs[0]) == 1 and libs[1] == libs[0]  # not built again
+    first, second = runs
+    assert first[0] == second[0] == "c" and first[2:] == ["True", "False"]
+    assert second[2:] == ["False", "False"]  # neither traced nor numba imported
+    assert float(second[1]) < 1.0  # a load (some 0.01 s idle), not a compilation
+    assert len(list(tmp_path.rglob("structure_*.json"))) == 1
 
 
 _BEHIND = """
@@ -438,5 +497,108 @@ def test_a_first_compilation_behind_the_caller_in_a_new_process(tmp_path):
     assert run.returncode == 0, run.stderr
     first_none, returned, built, good, err = run.stdout.split()
     assert first_none == "True" and good == "True"
-    assert float(returned) < 0.5 < float(built)
+    assert float(returned) < 0.5 and float(returned) < float(built)
     assert float(err) < 1e-12
+
+
+def test_nan_and_failed_assembly_reach_the_flags(backend):
+    """A NaN parameter gives NaN outputs and a NaN finite flag; a rocker too short to close
+    gives NaN outputs and a negative margin (failed), as the model's raise; the good design
+    beside them is unaffected."""
+    lk = six_link()
+    kernel = lkk.linkage_kernel(lk)
+    rows = np.array([[lk.parameters[k] for k in kernel.names]] * 3)
+    rows[1, kernel.names.index("DB")] = np.nan
+    rows[2, kernel.names.index("DB")] = 0.02
+    out, flags = kernel(rows, PHI)
+    at = {(kind, key): off for kind, key, off, _ in kernel.layout}
+    assert np.isfinite(out[:, 0]).all() and flags[0, 0] == 0.0 and flags[0, 1] > 0.0
+    assert np.isnan(flags[1, 0]) and np.isnan(out[at["points", "N"], 1]).all()
+    assert np.isnan(flags[2, 0]) and flags[2, 1] < -1e-6
+    assert np.isnan(out[at["points", "B"], 2]).any()
+    with pytest.raises(MechanismError):
+        lk(DB=0.02).motion(PHI)
+
+
+def test_without_a_compiler_the_kernels_are_numbas(monkeypatch):
+    """No C compiler found: ``auto`` falls back to numba (or to the model without it), ``c``
+    gives no kernel (the model serves); an unknown choice is refused by name."""
+    monkeypatch.setenv(lkk.COMPILER_ENV, "no-such-compiler-here")
+    assert lkk.c_compiler() is None
+    monkeypatch.setenv(lkk.BACKEND_ENV, "auto")
+    numba = lkk.kernel_backend() == "numba"
+    kernel = lkk.linkage_kernel(six_link())
+    assert (kernel is not None and kernel.backend == "numba") if numba else kernel is None
+    monkeypatch.setenv(lkk.BACKEND_ENV, "c")
+    assert lkk.kernel_backend() is None and lkk.linkage_kernel(six_link()) is None
+    assert lkk.linkage_batch(six_link(), PHI) is None
+    monkeypatch.setenv(lkk.BACKEND_ENV, "fortran")
+    with pytest.raises(MechanismError, match="MECHSYNTH_KERNELS.*fortran"):
+        lkk.kernel_backend()
+
+
+@pytest.mark.skipif(lkk.c_compiler() is None, reason="no C compiler")
+def test_a_damaged_shared_library_is_built_again(tmp_path, monkeypatch):
+    """A shared library whose bytes are not the ones recorded at its build (truncated,
+    overwritten) is compiled again, not loaded; a compiler that fails says so."""
+    monkeypatch.setenv("MECHSYNTH_CACHE_DIR", str(tmp_path))
+    monkeypatch.setenv(lkk.BACKEND_ENV, "c")
+    monkeypatch.setattr(lkk, "_KERNELS", {})
+    monkeypatch.setattr(lkk, "_LIBS", {})
+    lk = ms.Linkage(ground={"O": (0, 0), "D": (0.1, 0.0)}).crank("A", about="O", length=0.03)
+    lk = lk.rrr("B", ("A", 0.1), ("D", 0.07))  # a four-bar: compiled in a fraction of a second
+    rows = np.array([[lk.parameters[k] for k in lkk.linkage_kernel(lk).names]])
+    ref, _ = lkk.linkage_kernel(lk)(rows, PHI)
+    (lib,) = lkk.cache_dir().glob("mechsynth_linkage_*.so")
+    good = lib.read_bytes()
+    for damaged in (good[: len(good) // 2],):
+        spare = lib.with_name("spare")  # a new file renamed over it: the loaded one stays mapped
+        spare.write_bytes(damaged)
+        spare.replace(lib)
+        monkeypatch.setattr(lkk, "_KERNELS", {})
+        monkeypatch.setattr(lkk, "_LIBS", {})
+        again, _ = lkk.linkage_kernel(lk)(rows, PHI)
+        np.testing.assert_array_equal(again, ref)
+        assert lib.read_bytes() == good  # rebuilt: the same bytes as the first build
+    c_path = next(lkk.cache_dir().glob("mechsynth_linkage_*.c"))
+    broken = tmp_path / "broken.c"
+    broken.write_text("this is not C")
+    with pytest.raises(OSError, match="failed on broken.c"):
+        lkk._compile_c(lkk.c_compiler(), broken, tmp_path / "x.so")
+    assert c_path.read_text() == lkk.linkage_kernel(lk).source
+
+
+@pytest.mark.skipif(lkk.c_compiler() is None, reason="no C compiler")
+def test_the_c_arctan2_is_numpys_to_two_ulp(tmp_path, monkeypatch):
+    """The C kernels' branch-free arctan2 (and arcsin, arccos through it) against numpy's, in
+    every quadrant, on both sides of its range reduction, at zeros, infinities and NaN."""
+    import casadi as ca
+
+    monkeypatch.setenv("MECHSYNTH_CACHE_DIR", str(tmp_path))
+    x, p = ca.SX.sym("x"), ca.SX.sym("p", 1)
+    f = ca.Function("f", [x, p], [ca.vertcat(ca.atan2(p[0], x), ca.asin(x), ca.acos(x))])
+    layout = (("extra", "atan2", 0, 1), ("extra", "asin", 1, 1), ("extra", "acos", 2, 1))
+    source = lkk._c_source(f, layout)
+    kernel = lkk.LinkageKernel(("y",), layout, 3, source, lkk._load_c(source), None, "c")
+    rng = np.random.default_rng(3)
+    r = np.concatenate([rng.uniform(0, 1, 500), 0.66 + rng.uniform(-1e-6, 1e-6, 50)])
+    t = np.concatenate([rng.uniform(-np.pi, np.pi, 550), [0.0, np.pi / 4, np.pi / 2, 3.0]])
+    y = np.concatenate([np.outer(r, np.sin(t[:550])).ravel(), [1.0, 0.0, -2.0]])[:, None]
+    xs = np.concatenate([np.cos(t), [-1.0, 2.0, np.inf, -np.inf, np.nan, 0.5, 1.0, -1.0, 0.0]])
+    xs = np.concatenate([xs, rng.uniform(-1, 1, 200)])
+    with np.errstate(invalid="ignore"):  # the grid's cosines of inf and NaN
+        out, _ = kernel(y[:60], xs)
+    ref = np.arctan2(y[:60], xs)
+    finite = np.isfinite(ref)
+    assert np.all(np.abs(out[0][finite] - ref[finite]) <= 2 * np.spacing(np.abs(ref[finite])))
+    assert np.isnan(out[0][~finite]).all() == np.isnan(ref[~finite]).all()
+    with np.errstate(invalid="ignore"):
+        asin, acos = np.arcsin(xs), np.arccos(xs)
+    ok = np.isfinite(asin)
+    assert np.allclose(out[1, 0][ok], asin[ok], rtol=0, atol=4e-16)
+    assert np.allclose(out[2, 0][ok], acos[ok], rtol=0, atol=9e-16)
+    assert np.isnan(out[1, 0][~ok]).all() and np.isnan(out[2, 0][~ok]).all()
+    xs = np.array([1e300, -0.0, 1.0])
+    big, _ = kernel(np.array([[3e-300], [-7.0], [np.nan]]), xs)
+    np.testing.assert_allclose(big[0, :2], np.arctan2([[3e-300], [-7.0]], xs), rtol=4.5e-16)
+    assert np.isnan(big[0, 2]).all()

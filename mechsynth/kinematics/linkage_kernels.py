@@ -10,19 +10,35 @@ solve into one compiled function:
    straight-line list of instructions (the same trace an optimizer differentiates; the
    symbolic "hold" of groups that cannot close is off, so the trace is the numeric model's:
    NaN where a group cannot close, inf at a toggle);
-2. the instructions become the body of a numba function of one design and one input value,
-   with the parameter-only part hoisted out of the loop over inputs, the transcendental
-   functions those of :mod:`~mechsynth.kinematics.scalar_ops` (as the four-bar and slider-crank
-   kernels);
-3. the source is written to the cache directory (:func:`cache_dir`) under the digest of its
-   text and compiled with numba's disk cache: a structure compiles once per machine (a six-bar
-   in 6-8 s of CPU, most of it numba's typing and LLVM; announced in one line), later
-   processes load it in some 0.05 s after numba's own start (its import and set-up, 0.5-2 s
-   once per process). ``linkage_kernel(..., wait=False)`` builds it in a background thread
-   while the caller goes on with the model (a few milliseconds to return).
+2. the instructions become straight-line code (:func:`_program`) with the parameter-only part
+   hoisted out of the loop over inputs and sines and cosines resolved without libm, written
+   out by one of two code generators of the same trace:
 
-The row of the loop is compiled with fused multiply-adds (the only fast-math flag: see
-:data:`_FASTMATH`); its finite test runs in functions compiled without any.
+   * **C** (:func:`_c_source`): one function over a range of designs and every input, compiled
+     by the machine's C compiler (``-O2``, vectorized for this processor, fused multiply-adds;
+     no ``-ffast-math``: see :data:`C_FLAGS`) into a shared library loaded with ctypes. A
+     six-bar compiles in 0.2-0.6 s of the compiler's CPU time (1-2 s wall on a busy
+     machine), and a later process loads it in milliseconds, without numba;
+   * **numba** (:func:`_source`): a numba function of one design, its transcendental functions
+     those of :mod:`~mechsynth.kinematics.scalar_ops` (as the four-bar and slider-crank
+     kernels), compiled with numba's disk cache (a six-bar in 6-8 s of CPU, most of it numba's
+     typing and LLVM; a later process loads it in some 0.05 s after numba's own start, 0.5-2 s
+     once per process);
+
+   which one: :func:`kernel_backend` -- ``$MECHSYNTH_KERNELS`` = ``c``, ``numba`` or ``auto``
+   (the default: C when a compiler is found -- ``$MECHSYNTH_CC``, else ``cc`` or ``gcc`` on
+   the PATH -- else numba; neither: no kernels, the model serves). Both give every output
+   within 1e-12 of the model (the tests run on both);
+3. the source is written to the cache directory (:func:`cache_dir`) under the digest of its
+   text (the C library under the digest of its text, compiler, flags and processor, with the
+   digest of its bytes beside it: a damaged library is built again), and recorded under the
+   structure's key so that a later process finds it without tracing.
+   ``linkage_kernel(..., wait=False)`` builds it in a background thread while the caller goes
+   on with the model (a few milliseconds to return).
+
+The loop is compiled with fused multiply-adds as its only value-changing optimization (numba's
+fast-math flag ``contract``: see :data:`_FASTMATH`; ``-ffp-contract=fast`` for C); the finite
+test is a sum of the outputs, ``t - t``.
 
 The kernel computes every output of :meth:`Linkage.motion` -- each point's, link's and slider's
 jet, each group's pressure and transmission angles and assembly margin, the followers' extra
@@ -40,6 +56,7 @@ fixed number of Newton steps from sampled profile points: paper 001's five-link 
 from __future__ import annotations
 
 import contextlib
+import ctypes
 import functools
 import hashlib
 import importlib.util
@@ -53,6 +70,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import MechanismError
 from . import ops
 from .linkage_groups import _State
 from .mechanism import speed_pair
@@ -66,6 +84,8 @@ __all__ = [
     "is_compiled",
     "cache_dir",
     "linkage_batch",
+    "kernel_backend",
+    "c_compiler",
 ]
 
 # casadi operation -> Python expression over the inputs {0}, {1} (scalar_ops as ``so``)
@@ -141,7 +161,10 @@ class LinkageKernel:
         ``"sliders"`` (3 rows: value and analogs), ``"pressure"``, ``"transmission"``,
         ``"margins"``, ``"extra"`` (1 row).
     outputs : the number of rows.
-    source : the generated Python source.
+    source : the generated source (Python for numba, C for the C compiler).
+    serial, parallel : numba's dispatchers of the loop over designs on the calling thread and
+        on numba's threads; for C, the loaded function (``kernel(n, m, lo, hi, ...)``) and None.
+    backend : ``"c"`` or ``"numba"`` (:func:`kernel_backend`).
     """
 
     names: tuple
@@ -150,18 +173,22 @@ class LinkageKernel:
     source: str
     serial: object
     parallel: object
+    backend: str = "numba"
 
     def __call__(
         self, params: np.ndarray, phi: np.ndarray, out=None, flags=None, threads=None, speed=None
     ):
         """Evaluate ``params`` (``(n, len(names))``) at the inputs ``phi`` (``(m,)``) into
         ``out`` (``(outputs, n, m)``) and ``flags`` (``(n, 2)``: per design 0 where every
-        output is finite (else NaN) and its smallest assembly margin). ``threads`` None: numba's
-        threads for batches of at least :data:`~mechsynth.kinematics.compiled.PARALLEL_MIN`
-        evaluations. ``speed``: ``(omega, epsilon)`` of the input, which the analog rows are
-        turned into time derivatives with (None: the analogs)."""
-        from .compiled import PARALLEL_MIN, announce_compilation
+        output is finite (else NaN) and its smallest assembly margin). ``threads`` None: the
+        cores' threads (numba's, or two or more threads of the C loop) for batches of at least
+        :data:`~mechsynth.kinematics.compiled.PARALLEL_MIN` evaluations. ``speed``:
+        ``(omega, epsilon)`` of the input, which the analog rows are turned into time
+        derivatives with (None: the analogs)."""
+        from .compiled import PARALLEL_MIN
 
+        if self.backend == "c":
+            return _run_c(self, params, phi, out, flags, threads, speed)
         params = np.require(params, float, ["C", "W"])  # one array type per compiled kernel
         n, m = params.shape[0], phi.shape[0]
         if out is None:
@@ -175,6 +202,8 @@ class LinkageKernel:
         c, s = cos_sin(phi)  # the last grid's, remembered (the kernel only reads them)
         w, e = (1.0, 0.0) if speed is None else (float(speed[0]), float(speed[1]))
         if parallel:
+            from .compiled import announce_compilation
+
             with announce_compilation(
                 "a linkage kernel's threaded loop", dispatchers=[self.parallel]
             ):
@@ -182,6 +211,84 @@ class LinkageKernel:
         else:
             self.serial(params, phi, c, s, w, e, out, flags)
         return out, flags
+
+
+_F64 = np.dtype(np.float64)
+
+
+def _run_c(kernel, params, phi, out, flags, threads, speed):
+    """:meth:`LinkageKernel.__call__` on the C loop: its arrays passed by address (``out`` and
+    ``flags`` through contiguous copies when they are not writable C-ordered doubles of their
+    shape), the designs split over the cores' threads for large batches (ctypes releases
+    Python's lock during the call; each design's rows are its own: the same result)."""
+    from .compiled import PARALLEL_MIN
+
+    if not (type(params) is np.ndarray and params.dtype is _F64 and params.flags.c_contiguous):
+        params = np.ascontiguousarray(params, dtype=float)
+    if not (type(phi) is np.ndarray and phi.dtype is _F64 and phi.flags.c_contiguous):
+        phi = np.ascontiguousarray(phi, dtype=float)
+    n, m = params.shape[0], phi.shape[0]
+    if params.shape[1:] != (len(kernel.names),) or phi.ndim != 1:
+        raise ValueError(
+            f"params of shape {params.shape} and inputs of shape {phi.shape}: expected "
+            f"(n, {len(kernel.names)}) and (m,)"
+        )
+    shape = (kernel.outputs, n, m)
+    o = out
+    if not (type(o) is np.ndarray and o.dtype is _F64 and o.shape == shape
+            and o.flags.c_contiguous and o.flags.writeable):  # fmt: skip
+        o = np.empty(shape)
+    fl = flags
+    if not (type(fl) is np.ndarray and fl.dtype is _F64 and fl.shape == (n, 2)
+            and fl.flags.c_contiguous and fl.flags.writeable):  # fmt: skip
+        fl = np.empty((n, 2))
+    c, s = cos_sin(phi)  # the last grid's, remembered (the kernel only reads them)
+    w, e = (1.0, 0.0) if speed is None else (float(speed[0]), float(speed[1]))
+    grid = _GRID_ADDRESSES[0]  # numpy's ctypes.data costs microseconds: the grid's remembered
+    if grid is None or grid[0] is not phi or grid[1] is not c or grid[2] is not s:
+        grid = _GRID_ADDRESSES[0] = (phi, c, s, *(_address(a) for a in (phi, c, s)))
+    args = (
+        params.shape[1], _address(params), *grid[3:], w, e, _address(o), _address(fl),
+    )  # fmt: skip
+    fn = kernel.serial
+    parallel = (n * m >= PARALLEL_MIN) if threads is None else bool(threads)
+    workers = min(n, os.cpu_count() or 1) if parallel else 1
+    if workers > 1:
+        cuts = [n * k // workers for k in range(workers + 1)]
+        jobs = [_pool().submit(fn, n, m, lo, hi, *args) for lo, hi in zip(cuts, cuts[1:])]
+        for job in jobs:
+            job.result()
+    else:
+        fn(n, m, 0, n, *args)
+    if out is None:
+        out = o
+    elif o is not out:
+        out[...] = o
+    if flags is None:
+        flags = fl
+    elif fl is not flags:
+        flags[...] = fl
+    return out, flags
+
+
+def _address(a) -> int:
+    """The address of ``a``'s data (0 when it has none)."""
+    if a.flags.writeable and a.size:
+        return _ADDRESS_OF(_DOUBLE.from_buffer(a))  # a third of numpy's ctypes.data's time
+    return a.ctypes.data if a.size else 0
+
+
+#: the last grid's (inputs, cosines, sines) and their addresses
+_GRID_ADDRESSES: list = [None]
+_DOUBLE, _ADDRESS_OF = ctypes.c_double, ctypes.addressof
+
+
+@functools.cache
+def _pool():
+    """The threads the C loop's designs are split over (one per core)."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    return ThreadPoolExecutor(os.cpu_count() or 1, thread_name_prefix="mechsynth kernel")
 
 
 # -------------------------------------------------------------------------------- the trace
@@ -248,10 +355,29 @@ def _orders(layout) -> dict:
 _FASTMATH = ("contract",)
 
 
-def _source(f, layout, stamp) -> str:
-    """The numba source of the traced function ``f`` (one design, a loop over inputs). The
-    analogs are written as time derivatives at the input's speed ``w`` and acceleration ``e``
-    (``d/dt = w d``, ``d2/dt2 = w^2 d2 + e d``); the finite test is on the analogs.
+@dataclass(frozen=True)
+class _Dialect:
+    """How one code generator writes the trace's operations: the expression of each casadi
+    operation over its inputs ``{0}``, ``{1}``, the calls of ``sqrt``/``cos``/``sin``, a
+    parameter's read (``{0}`` its column) and the non-finite constants."""
+
+    forms: dict
+    calls: dict
+    param: str
+    nan: str
+    inf: str
+
+
+_PYTHON = _Dialect(
+    _FORMS, {k: f"so.{k}" for k in ("sqrt", "cos", "sin")}, "p[i, {0}]", "math.nan", "math.inf"
+)
+
+
+def _program(f, dialect: _Dialect):
+    """The traced function ``f`` as straight-line code in ``dialect``: ``(hoisted, body,
+    writes, varies)`` -- ``(name, expression)`` pairs of the parameter-only part and of the
+    part that depends on the input ``x`` (its cosine ``cx`` and sine ``sx`` given), the
+    ``(row, name)`` of each output and ``{name: depends on the input}``.
 
     Sines and cosines are resolved before they reach libm (whose scalar calls would keep the
     loop over inputs from being vectorized): of the input, from its cosines and sines computed
@@ -264,6 +390,7 @@ def _source(f, layout, stamp) -> str:
     import casadi as ca
 
     opname = {getattr(ca, k): k for k in dir(ca) if k.startswith("OP_")}
+    call = dialect.calls
     hoisted, body, writes = [], [], []
     var = {}  # casadi work slot -> current SSA name
     node = {}  # SSA name -> (operation, argument names)
@@ -271,7 +398,7 @@ def _source(f, layout, stamp) -> str:
     trig = {}  # SSA name -> (its cosine's name, its sine's name)
 
     def emit(name, line, dep):
-        (body if dep else hoisted).append(f"{name} = {line}")
+        (body if dep else hoisted).append((name, line))
         varies[name] = dep
 
     def cos_sin(z):
@@ -280,13 +407,13 @@ def _source(f, layout, stamp) -> str:
         op, args = node[z]
         c, s = f"c_{z}", f"s_{z}"
         if not varies[z]:
-            emit(c, f"so.cos({z})", False)
-            emit(s, f"so.sin({z})", False)
+            emit(c, f"{call['cos']}({z})", False)
+            emit(s, f"{call['sin']}({z})", False)
         elif op == "OP_INPUT":
             c, s = "cx", "sx"
         elif op == "OP_ATAN2":
             y, x = args
-            emit(f"r_{z}", f"so.sqrt({x} * {x} + {y} * {y})", True)
+            emit(f"r_{z}", f"{call['sqrt']}({x} * {x} + {y} * {y})", True)
             emit(c, f"{x} / r_{z}", True)
             emit(s, f"{y} / r_{z}", True)
         elif op in ("OP_ADD", "OP_SUB"):
@@ -303,8 +430,8 @@ def _source(f, layout, stamp) -> str:
             emit(c, f"{ca_} * {ca_} - {sa} * {sa}", True)
             emit(s, f"2.0 * {sa} * {ca_}", True)
         else:
-            emit(c, f"so.cos({z})", True)
-            emit(s, f"so.sin({z})", True)
+            emit(c, f"{call['cos']}({z})", True)
+            emit(s, f"{call['sin']}({z})", True)
         trig[z] = (c, s)
         return c, s
 
@@ -314,14 +441,14 @@ def _source(f, layout, stamp) -> str:
         name = f"v{k}"
         args = ()
         if op == "OP_INPUT":
-            line = "x" if ins[0] == 0 else f"p[i, {ins[1]}]"
+            line = "x" if ins[0] == 0 else dialect.param.format(ins[1])
             dep = ins[0] == 0
         elif op == "OP_CONST":
             c = float(f.instruction_constant(k))
             if math.isfinite(c):
                 line = repr(c)
             else:
-                line = "math.nan" if c != c else ("-math.inf" if c < 0 else "math.inf")
+                line = dialect.nan if c != c else ("-" if c < 0 else "") + dialect.inf
             dep = False
         elif op == "OP_OUTPUT":
             writes.append((outs[1], var[ins[0]]))
@@ -330,15 +457,27 @@ def _source(f, layout, stamp) -> str:
             arg = var[ins[0]]
             line = cos_sin(arg)[op == "OP_SIN"]
             dep = varies[arg]
-        elif op in _FORMS:
+        elif op in dialect.forms:
             args = tuple(var[i] for i in ins)
-            line = _FORMS[op].format(*args)
+            line = dialect.forms[op].format(*args)
             dep = any(varies[a] for a in args)
         else:
             raise NotImplementedError(f"casadi operation {op}")
         emit(name, line, dep)
         node[name] = (op, args)
         var[outs[0]] = name
+    return hoisted, body, writes, varies
+
+
+def _source(f, layout, stamp) -> str:
+    """The numba source of the traced function ``f`` (one design, a loop over inputs; the
+    straight-line code of :func:`_program`). The analogs are written as time derivatives at the
+    input's speed ``w`` and acceleration ``e`` (``d/dt = w d``, ``d2/dt2 = w^2 d2 + e d``); the
+    finite test is on the analogs.
+    """
+    hoisted, body, writes, varies = _program(f, _PYTHON)
+    hoisted = [f"{name} = {line}" for name, line in hoisted]
+    body = [f"{name} = {line}" for name, line in body]
     ind = " " * 8
     lines = [
         '"""A linkage kernel generated by mechsynth (do not edit: regenerated when stale)."""',
@@ -420,6 +559,136 @@ def _source(f, layout, stamp) -> str:
     return "\n".join(lines)
 
 
+# -------------------------------------------------------------------------------- the C kernel
+#: the C generator's expressions of the casadi operations (those of :data:`_FORMS`, with
+#: scalar_ops' meanings: ``fmin``/``fmax`` as its comparisons, ``arctan2`` its branch-free
+#: rational form ``ms_atan2`` below)
+_C_FORMS = {
+    **{k: v for k, v in _FORMS.items() if "so." not in v and "math." not in v and "if" not in v},
+    "OP_SQRT": "sqrt({0})",
+    "OP_SIN": "sin({0})",
+    "OP_COS": "cos({0})",
+    "OP_TAN": "tan({0})",
+    "OP_ASIN": "ms_atan2({0}, sqrt(1.0 - {0} * {0}))",
+    "OP_ACOS": "ms_atan2(sqrt(1.0 - {0} * {0}), {0})",
+    "OP_ATAN": "atan({0})",
+    "OP_ATAN2": "ms_atan2({0}, {1})",
+    "OP_FABS": "fabs({0})",
+    "OP_FMIN": "({0} <= {1} ? {0} : {1})",
+    "OP_FMAX": "({0} >= {1} ? {0} : {1})",
+    "OP_HYPOT": "sqrt({0} * {0} + {1} * {1})",
+    "OP_EXP": "exp({0})",
+    "OP_LOG": "log({0})",
+    "OP_POW": "pow({0}, {1})",
+    "OP_CONSTPOW": "pow({0}, {1})",
+    "OP_FLOOR": "floor({0})",
+    "OP_CEIL": "ceil({0})",
+    "OP_FMOD": "fmod({0}, {1})",
+    "OP_SIGN": "({0} > 0.0 ? 1.0 : ({0} < 0.0 ? -1.0 : 0.0))",
+    "OP_COPYSIGN": "copysign({0}, {1})",
+    "OP_LT": "({0} < {1} ? 1.0 : 0.0)",
+    "OP_LE": "({0} <= {1} ? 1.0 : 0.0)",
+    "OP_EQ": "({0} == {1} ? 1.0 : 0.0)",
+    "OP_NE": "({0} != {1} ? 1.0 : 0.0)",
+    "OP_NOT": "({0} == 0.0 ? 1.0 : 0.0)",
+    "OP_AND": "({0} != 0.0 && {1} != 0.0 ? 1.0 : 0.0)",
+    "OP_OR": "({0} != 0.0 || {1} != 0.0 ? 1.0 : 0.0)",
+    "OP_IF_ELSE_ZERO": "({0} != 0.0 ? {1} : 0.0)",
+}
+assert set(_C_FORMS) == set(_FORMS)
+
+_C = _Dialect(_C_FORMS, {k: k for k in ("sqrt", "cos", "sin")}, "pr[{0}]", "NAN", "INFINITY")
+
+#: the C kernel's preamble: scalar_ops' ``arctan2`` (Cephes' ``atan`` on the reduced range, S.
+#: L. Moshier; branch-free, so the loop over inputs vectorizes; the tests hold it to numpy's)
+_C_PRELUDE = r"""/* A linkage kernel generated by mechsynth (do not edit: regenerated when stale) */
+#include <math.h>
+#include <stdint.h>
+
+static inline double ms_atan2(double y, double x)
+{
+    const double ax = fabs(x), ay = fabs(y);
+    const int swap = ay > ax;
+    const double big = swap ? ay : ax, small = swap ? ax : ay;
+    const int red = small > 0.66 * big; /* r = small / big > 0.66: atan(r) = pi/4 + atan(u) */
+    const double u = (red ? small - big : small) / (red ? small + big : (big == 0.0 ? 1.0 : big));
+    const double z = u * u;
+    const double p = (((-8.750608600031904122785e-1 * z - 1.615753718733365076637e1) * z
+                       - 7.500855792314704667340e1) * z - 1.228866684490136173410e2) * z
+                     - 6.485021904942025371773e1;
+    const double q = ((((z + 2.485846490142306297962e1) * z + 1.650270098316988542046e2) * z
+                       + 4.328810604912902668951e2) * z + 4.853903996359136964868e2) * z
+                     + 1.945506571482613964425e2;
+    const double mb = 6.123233995736765886130e-17; /* pi/2 - double(pi/2) */
+    double a = u + u * (z * p / q);
+    a = red ? (0.7853981633974483 + (a + 0.5 * mb)) : a;
+    a = swap ? (1.5707963267948966 - a + mb) : a;
+    a = x < 0.0 ? (3.141592653589793 - a + 2.0 * mb) : a;
+    return y < 0.0 ? -a : a;
+}
+
+#define BLOCK 64
+"""
+
+
+def _c_source(f, layout) -> str:
+    """The C source of the traced function ``f``: one function ``kernel`` over the designs
+    ``lo <= i < hi`` of a batch and every input (the same straight-line code as the numba
+    kernel's, :func:`_program`; the parameter-only part once per design, the inputs in blocks
+    of 64 whose finite tests and margins are reduced after each block)."""
+    hoisted, body, writes, varies = _program(f, _C)
+    orders = _orders(layout)
+    margins = {off for kind, _, off, _ in layout if kind == "margins"}
+    raw = dict(writes)
+    fixed, finite, stores, least = [], ["fixed"], [], "INFINITY"
+    for r, name in sorted(writes):
+        order, first = orders.get(r, (0, None))
+        value = (name, f"w * {name}", f"w2 * {name} + e * {raw.get(first)}")[order]
+        stores.append(f"o[{r} * nm + j] = {value};")
+        (finite if varies[name] else fixed).append(name)
+        if r in margins:
+            least = f"({name} < {least} ? {name} : {least})"  # Python's min(least, name)
+    ind, ind2 = " " * 8, " " * 16
+    return "\n".join([
+        _C_PRELUDE,
+        "void kernel(int64_t n, int64_t m, int64_t lo, int64_t hi, int64_t np_,",
+        "            const double *restrict p, const double *restrict phi,",
+        "            const double *restrict cphi, const double *restrict sphi, double w,",
+        "            double e, double *restrict out, double *restrict flags)",
+        "{",
+        "    const double w2 = w * w;",
+        "    const int64_t nm = n * m;",
+        "    for (int64_t i = lo; i < hi; ++i) {",
+        ind + "const double *restrict pr = p + i * np_;",
+        ind + "double *restrict o = out + i * m;",
+        *(ind + f"const double {name} = {line};" for name, line in hoisted),
+        ind + f"const double tf = {' + '.join(fixed or ['0.0'])};",
+        ind + "const double fixed = tf - tf;",
+        ind + "double bad = 0.0, least = INFINITY, chk0[BLOCK], chk1[BLOCK];",
+        ind + "for (int64_t j0 = 0; j0 < m; j0 += BLOCK) {",
+        ind + "    const int64_t j1 = j0 + BLOCK < m ? j0 + BLOCK : m;",
+        ind + "    #pragma GCC ivdep",
+        ind + "    for (int64_t j = j0; j < j1; ++j) {",
+        ind2 + "const double x = phi[j], cx = cphi[j], sx = sphi[j];",
+        *(ind2 + f"const double {name} = {line};" for name, line in body),
+        *(ind2 + s for s in stores),
+        ind2 + f"const double t = {' + '.join(finite)};",
+        ind2 + "chk0[j - j0] = t - t;",
+        ind2 + f"chk1[j - j0] = {least};",
+        ind + "    }",
+        ind + "    for (int64_t j = 0; j < j1 - j0; ++j) {",
+        ind2 + "bad += chk0[j];",
+        ind2 + "least = chk1[j] < least || chk1[j] != chk1[j] ? chk1[j] : least;",
+        ind + "    }",
+        ind + "}",
+        ind + "flags[2 * i] = bad;",
+        ind + "flags[2 * i + 1] = least;",
+        "    }",
+        "}",
+        "",
+    ])  # fmt: skip
+
+
 def _load(source: str):
     """Import the generated module (written once under its digest; compiled or loaded from
     numba's disk cache beside it on first call)."""
@@ -461,13 +730,16 @@ def _model_digest() -> str:
     return h.hexdigest()
 
 
-def _index_path(key) -> Path | None:
-    """Where the kernel of structure ``key`` is recorded (its parameters' order, output layout
-    and the generated module), so that a later process loads it without importing CasADi and
-    tracing the solve (0.15-0.3 s); None when the structure has no stable text."""
+def _index_path(key, backend: str = "numba") -> Path | None:
+    """Where the ``backend``'s kernel of structure ``key`` is recorded (its parameters' order,
+    output layout and the generated module), so that a later process loads it without
+    importing CasADi and tracing the solve (0.15-0.3 s); None when the structure has no stable
+    text."""
     text = repr(key)
     if " at 0x" in text:  # an object without a value's repr: no stable key across processes
         return None
+    if backend != "numba":
+        text = f"{backend}:{text}"
     digest = hashlib.sha256((_model_digest() + text).encode()).hexdigest()[:24]
     return cache_dir() / f"structure_{digest}.json"
 
@@ -490,26 +762,35 @@ def _read_index(index):
     return names, layout, source
 
 
-def _write_index(index, names, layout, source) -> None:
-    """Record a kernel's structure (written whole, then renamed into place)."""
+def _write_index(index, names, layout, source, suffix: str = ".py") -> None:
+    """Record a kernel's structure (written whole, then renamed into place); its module is
+    ``mechsynth_linkage_<digest><suffix>`` in the cache."""
     import json
 
     if index is None:
         return
     digest = hashlib.sha256(source.encode()).hexdigest()
     data = {
-        "module": f"mechsynth_linkage_{digest[:20]}.py",
+        "module": f"mechsynth_linkage_{digest[:20]}{suffix}",
         "sha256": digest,
         "names": list(names),
         "layout": [list(item) for item in layout],
     }
-    tmp = index.with_suffix(f".{os.getpid()}.{threading.get_ident()}.tmp")
+    _write_atomic(index, json.dumps(data))
+
+
+def _write_atomic(path: Path, text) -> bool:
+    """Write ``text`` (str or bytes) to ``path`` whole, then rename it into place; False when
+    the cache cannot be written (the next process then builds again)."""
+    tmp = path.with_name(f"{path.name}.{os.getpid()}.{threading.get_ident()}.tmp")
     try:
-        tmp.write_text(json.dumps(data))
-        os.replace(tmp, index)
-    except OSError:  # a cache that cannot be written: the next process traces again
+        (tmp.write_bytes if isinstance(text, bytes) else tmp.write_text)(text)
+        os.replace(tmp, path)
+    except OSError:
         with contextlib.suppress(OSError):
             tmp.unlink()
+        return False
+    return True
 
 
 @functools.cache
@@ -524,59 +805,224 @@ def _vectorize_wide_loops():
     llvm.set_option("", "-vectorize-memory-check-threshold=100000")
 
 
+# ------------------------------------------------------------------------ choosing a backend
+#: the environment variable that chooses the kernels' code generator: ``c``, ``numba`` or
+#: ``auto`` (unset: ``auto``, C when a compiler is found, else numba)
+BACKEND_ENV = "MECHSYNTH_KERNELS"
+#: the environment variable naming the C compiler (else ``cc``, else ``gcc`` on the PATH)
+COMPILER_ENV = "MECHSYNTH_CC"
+
+
+def c_compiler() -> str | None:
+    """The C compiler's path: ``$MECHSYNTH_CC`` when set (a name on the PATH or a path),
+    else ``cc``, else ``gcc``; None when none is found."""
+    return _which(os.environ.get(COMPILER_ENV) or "", os.environ.get("PATH", ""))
+
+
+@functools.lru_cache(maxsize=8)
+def _which(named: str, path: str) -> str | None:
+    import shutil
+
+    for name in (named,) if named else ("cc", "gcc"):
+        found = shutil.which(name, path=path)
+        if found:
+            return found
+    return None
+
+
+def kernel_backend(probe: bool = True) -> str | None:
+    """The code generator of this process's linkage kernels: ``"c"``, ``"numba"`` or None
+    (neither: callers use the model). ``$MECHSYNTH_KERNELS`` chooses: ``c`` (None without a
+    compiler), ``numba`` (None without numba), ``auto`` or unset (C when :func:`c_compiler`
+    finds one, else numba). ``probe=False`` tells numba is installed without importing it."""
+    choice = os.environ.get(BACKEND_ENV, "auto").strip().lower() or "auto"
+    if choice not in ("auto", "c", "numba"):
+        raise MechanismError(f"${BACKEND_ENV} = {choice!r}: expected 'c', 'numba' or 'auto'")
+    if choice in ("auto", "c") and c_compiler() is not None:
+        return "c"
+    if choice == "c":
+        return None
+    if probe:
+        from .compiled import numba_available
+
+        return "numba" if numba_available() else None
+    return "numba" if importlib.util.find_spec("numba") is not None else None
+
+
+# ------------------------------------------------------------------------ the C build
+#: the C compiler's flags. ``-O2`` with the loop vectorizer (``-O1``: 0.1 s less to compile,
+#: half as fast); ``-march=native``: this machine's vector units (the build's digest holds the
+#: processor's identity); fused multiply-adds (``-ffp-contract=fast``, numba's ``contract``);
+#: ``-fno-math-errno`` (``sqrt`` inlined: errno is never read) and ``-fno-trapping-math``
+#: (the branch-free ``arctan2``'s selects if-converted: floating-point flags are never read).
+#: Nothing that changes a value: no ``-ffast-math`` (NaN and inf must reach the finite test,
+#: the sign of a zero picks ``arctan2``'s branch).
+C_FLAGS = (
+    "-O2", "-ftree-vectorize", "-fvect-cost-model=dynamic", "-march=native",
+    "-ffp-contract=fast", "-fno-math-errno", "-fno-trapping-math", "-fPIC", "-shared", "-w",
+)  # fmt: skip
+
+_C_ARGS = None  # the C loop's argument types (ctypes: imported with the first kernel)
+_LIBS: dict = {}  # build digest -> the loaded function
+
+
+@functools.cache
+def _processor() -> str:
+    """This processor's identity (its model and feature flags) for ``-march=native``'s
+    builds: a cache shared by machines of another processor builds its own."""
+    import platform
+
+    text = platform.machine() + platform.processor()
+    with contextlib.suppress(OSError):
+        with open("/proc/cpuinfo") as f:
+            info = f.read(1 << 16)
+        text += "".join(
+            line for line in info.splitlines(True) if line.startswith(("model name", "flags"))
+        )[: 1 << 12]
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def _load_c(source: str):
+    """The C loop of ``source``: loaded from the cache (its shared library, checked against
+    the digest recorded beside it), else compiled there first. Raises ``OSError`` when the
+    compiler fails."""
+    global _C_ARGS
+    cc = c_compiler()
+    if cc is None:
+        raise OSError("no C compiler found (cc or gcc on the PATH, or $MECHSYNTH_CC)")
+    digest = hashlib.sha256(source.encode()).hexdigest()[:20]
+    build = "\0".join((source, cc, *C_FLAGS, _processor()))
+    build = hashlib.sha256(build.encode()).hexdigest()[:16]
+    if build in _LIBS:
+        return _LIBS[build]
+    where = cache_dir()
+    c_path = where / f"mechsynth_linkage_{digest}.c"
+    lib_path = where / f"mechsynth_linkage_{digest}_{build}.so"
+    lib = _open_c(lib_path)
+    if lib is None:
+        if not (c_path.is_file() and c_path.read_text() == source):
+            _write_atomic(c_path, source)
+        tmp = lib_path.with_name(f"{lib_path.name}.{os.getpid()}.{threading.get_ident()}.tmp")
+        _compile_c(cc, c_path, tmp)
+        try:
+            data = tmp.read_bytes()
+            _write_atomic(_digest_path(lib_path), hashlib.sha256(data).hexdigest())
+            os.replace(tmp, lib_path)
+        finally:
+            with contextlib.suppress(OSError):
+                tmp.unlink()
+        lib = _open_c(lib_path)
+        if lib is None:
+            raise OSError(f"the compiled kernel {lib_path.name} cannot be loaded")
+    if _C_ARGS is None:
+        i64, ptr, dbl = ctypes.c_int64, ctypes.c_void_p, ctypes.c_double
+        _C_ARGS = [i64] * 5 + [ptr] * 4 + [dbl] * 2 + [ptr] * 2
+    fn = lib.kernel
+    fn.argtypes, fn.restype = _C_ARGS, None
+    _LIBS[build] = fn
+    return fn
+
+
+def _digest_path(lib_path: Path) -> Path:
+    return lib_path.with_name(lib_path.name + ".sha256")
+
+
+def _open_c(lib_path: Path):
+    """The shared library at ``lib_path`` when it is there whole (its bytes' digest the one
+    recorded beside it at its build), else None (absent, or damaged: built again)."""
+    try:
+        data = lib_path.read_bytes()
+        recorded = _digest_path(lib_path).read_text().strip()
+    except OSError:
+        return None
+    if hashlib.sha256(data).hexdigest() != recorded:
+        return None
+    try:
+        return ctypes.CDLL(str(lib_path))
+    except OSError:
+        return None
+
+
+def _compile_c(cc: str, c_path: Path, out: Path) -> None:
+    """Compile ``c_path`` into the shared library ``out`` (``OSError`` with the compiler's last
+    lines when it fails)."""
+    import subprocess
+
+    try:
+        run = subprocess.run(
+            [cc, *C_FLAGS, "-o", str(out), str(c_path), "-lm"],
+            capture_output=True, text=True, timeout=600, check=False,
+        )  # fmt: skip
+    except (OSError, subprocess.SubprocessError) as exc:
+        raise OSError(f"the C compiler {cc} could not run: {exc}") from exc
+    if run.returncode != 0:
+        tail = " ".join((run.stderr or run.stdout).strip().splitlines()[-3:])
+        raise OSError(f"the C compiler {cc} failed on {c_path.name} ({run.returncode}): {tail}")
+
+
+# ------------------------------------------------------------------------ kernels, remembered
 def is_compiled(linkage) -> bool:
     """Whether ``linkage``'s structure has a kernel already: in this process, or recorded in
     the disk cache by an earlier one (then it loads without compiling). No numba import."""
+    backend = kernel_backend(probe=False)
+    if backend is None:
+        return False
     key = _structure(linkage)
-    if key in _KERNELS:
-        return _KERNELS[key] is not None
-    index = _index_path(key)
+    if (backend, key) in _KERNELS:
+        return _KERNELS[backend, key] is not None
+    index = _index_path(key, backend)
     return index is not None and index.is_file()
 
 
 def linkage_kernel(linkage, wait: bool = True) -> LinkageKernel | None:
     """The compiled kernel of ``linkage``'s structure (built on first use, then remembered), or
-    None when numba is missing, the linkage has a cam follower or its solve uses an operation
-    the generator does not know.
+    None when no backend is available (:func:`kernel_backend`: neither a C compiler nor numba),
+    the linkage has a cam follower or its solve uses an operation the generator does not know.
 
     ``wait=False`` never blocks on a build: it returns the kernel when this process has it and
     otherwise starts building it in a background thread and returns None at once, so that the
     caller evaluates on the numpy model meanwhile and finds the kernel on a later call
-    (:func:`kernel_pending` tells a build under way). A kernel the disk cache lacks is compiled
-    there by another Python process (on another core, the caller's process keeping Python's
-    lock for its own work), then loaded by the thread. A process waits at exit for a build it
-    started (its kernel then lands in the disk cache for the next one).
+    (:func:`kernel_pending` tells a build under way). The C compiler runs in its own process;
+    a numba kernel the disk cache lacks is compiled there by another Python process (on
+    another core, the caller's process keeping Python's lock for its own work), then loaded by
+    the thread. A process waits at exit for a build it started (its kernel then lands in the
+    disk cache for the next one).
     """
-    from .compiled import numba_available
     from .linkage_groups import FollowerGroup
 
-    if wait or "numba" in sys.modules:
-        available = numba_available()
-    else:  # numba's import (about 0.5 s) is the background thread's
-        available = importlib.util.find_spec("numba") is not None
-    if not available or any(isinstance(g, FollowerGroup) for g in linkage.groups):
+    # numba's import (about 0.5 s) is the background thread's
+    backend = kernel_backend(probe=wait or "numba" in sys.modules)
+    if backend is None or any(isinstance(g, FollowerGroup) for g in linkage.groups):
         return None
     key = _structure(linkage)  # frozen groups of names (a follower's profile is not among them)
-    if key in _KERNELS:
-        return _KERNELS[key]
+    kept = _KERNELS.get((backend, key), _NONE)
+    if kept is not _NONE:
+        return kept
     if wait:
         with _LOCK:
-            return _built(linkage, key)
+            return _built(linkage, key, backend)
     with _PENDING_LOCK:
-        if key not in _PENDING and key not in _FAILED:
+        if (backend, key) not in _PENDING and (backend, key) not in _FAILED:
             thread = threading.Thread(
-                target=_build_behind, args=(linkage, key), name="mechsynth kernel build"
-            )
-            _PENDING[key] = thread
+                target=_build_behind, args=(linkage, key, backend),
+                name="mechsynth kernel build",
+            )  # fmt: skip
+            _PENDING[backend, key] = thread
             thread.start()
     return None
+
+
+_NONE = object()
 
 
 def kernel_pending(linkage) -> threading.Thread | None:
     """The background thread building ``linkage``'s kernel (``linkage_kernel(..., wait=False)``)
     while it runs (``join()`` it to wait), else None."""
-    thread = _PENDING.get(_structure(linkage))
-    return thread if thread is not None and thread.is_alive() else None
+    key = _structure(linkage)
+    for (_, k), thread in list(_PENDING.items()):
+        if k == key and thread.is_alive():
+            return thread
+    return None
 
 
 _PENDING: dict = {}
@@ -584,29 +1030,31 @@ _PENDING_LOCK = threading.Lock()
 _FAILED: set = set()  # structures whose background build failed: not started again
 
 
-def _build_behind(linkage, key) -> None:
+def _build_behind(linkage, key, backend) -> None:
     """A background build: the kernel remembered for the process, or on failure nothing but
     the structure's failure (no background build again; a blocking call builds and raises).
 
-    A kernel the disk cache does not hold yet is compiled in another process (which writes it
-    there), this thread waiting for it without Python's lock: numba's compilation is mostly
-    Python, and in a thread it would hold that lock from the caller's own work several times
-    over. This process then loads it (in the thread)."""
+    A numba kernel the disk cache does not hold yet is compiled in another process (which
+    writes it there), this thread waiting for it without Python's lock: numba's compilation is
+    mostly Python, and in a thread it would hold that lock from the caller's own work several
+    times over. This process then loads it (in the thread). A C kernel is traced here (some
+    0.2 s of Python) and compiled by the compiler's own process."""
     try:
-        if not is_compiled(linkage):
+        if backend == "numba" and not is_compiled(linkage):
             _compile_elsewhere(linkage)
         with _LOCK:
-            _built(linkage, key)
+            _built(linkage, key, backend)
     except Exception:  # noqa: BLE001 - a blocking call builds again and raises it
-        _FAILED.add(key)
+        _FAILED.add((backend, key))
     finally:
         with _PENDING_LOCK:
-            _PENDING.pop(key, None)
+            _PENDING.pop((backend, key), None)
 
 
 _ELSEWHERE = """
-import pickle, sys
+import os, pickle, sys
 from pathlib import Path
+os.environ["MECHSYNTH_KERNELS"] = "numba"
 from mechsynth.kinematics import linkage_kernels as lkk
 where = Path(sys.argv[1])
 lkk.cache_dir = lambda: where  # this very cache, whatever the environment says
@@ -615,8 +1063,8 @@ lkk.linkage_kernel(pickle.loads(sys.stdin.buffer.read()))
 
 
 def _compile_elsewhere(linkage) -> None:
-    """Compile ``linkage``'s kernel into the disk cache in a new Python process (nothing when
-    the linkage cannot be pickled or the process fails: the caller then compiles here)."""
+    """Compile ``linkage``'s numba kernel into the disk cache in a new Python process (nothing
+    when the linkage cannot be pickled or the process fails: the caller then compiles here)."""
     import pickle
     import subprocess
 
@@ -634,40 +1082,55 @@ def _compile_elsewhere(linkage) -> None:
         )
 
 
-def _built(linkage, key) -> LinkageKernel | None:
-    """The kernel of structure ``key`` (with ``_LOCK`` held): remembered, recorded in the disk
-    cache, or traced, generated and compiled."""
+def _built(linkage, key, backend="numba") -> LinkageKernel | None:
+    """The ``backend``'s kernel of structure ``key`` (with ``_LOCK`` held): remembered,
+    recorded in the disk cache, or traced, generated and compiled."""
     from .compiled import announce_compilation
 
-    if key in _KERNELS:
-        return _KERNELS[key]
-    index = _index_path(key)
+    if (backend, key) in _KERNELS:
+        return _KERNELS[backend, key]
+    index = _index_path(key, backend)
     try:
         known = _read_index(index)
         if known is None:
             f, names, layout = _trace(linkage)
-            source = _source(f, layout, _stamp())
+            source = _c_source(f, layout) if backend == "c" else _source(f, layout, _stamp())
         else:
             names, layout, source = known
     except NotImplementedError:
         kernel = None
     else:
-        _vectorize_wide_loops()
-        module = _load(source)
-        if known is None:
-            _write_index(index, names, layout, source)
         n_out = sum(size for *_, size in layout)
-        with announce_compilation(
-            f"a kernel for {linkage.name}'s structure", dispatchers=[module.serial]
-        ):
-            grid = np.zeros(1)
-            module.serial(
-                np.ones((1, len(names))), grid, grid, grid, 1.0, 0.0, np.empty((n_out, 1, 1)),
-                np.empty((1, 2)),
-            )  # fmt: skip
-        kernel = LinkageKernel(names, layout, n_out, source, module.serial, module.parallel)
-    _KERNELS[key] = kernel
+        if backend == "c":
+            with announce_compilation(f"a kernel for {linkage.name}'s structure (C)"):
+                fn = _load_c(source)
+            if known is None:
+                _write_index(index, names, layout, source, ".c")
+            kernel = LinkageKernel(names, layout, n_out, source, fn, None, "c")
+        else:
+            kernel = _built_numba(linkage, names, layout, source, index, known is None)
+    _KERNELS[backend, key] = kernel
     return kernel
+
+
+def _built_numba(linkage, names, layout, source, index, record) -> LinkageKernel:
+    """The numba kernel of ``source`` (compiled, or loaded from numba's disk cache)."""
+    from .compiled import announce_compilation
+
+    _vectorize_wide_loops()
+    module = _load(source)
+    if record:
+        _write_index(index, names, layout, source)
+    n_out = sum(size for *_, size in layout)
+    with announce_compilation(
+        f"a kernel for {linkage.name}'s structure", dispatchers=[module.serial]
+    ):
+        grid = np.zeros(1)
+        module.serial(
+            np.ones((1, len(names))), grid, grid, grid, 1.0, 0.0, np.empty((n_out, 1, 1)),
+            np.empty((1, 2)),
+        )  # fmt: skip
+    return LinkageKernel(names, layout, n_out, source, module.serial, module.parallel)
 
 
 # -------------------------------------------------------------------------------- batches
