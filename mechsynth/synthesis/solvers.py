@@ -330,8 +330,9 @@ class _Certifier:
         self.problem, self.method, self.options = problem, method, options
         self.rtol, self.max_rounds, self.n_dense = rtol, max_rounds, n_dense
         self.extra: list[float] = []
+        self.owners: list[int | None] = []  # the peak (index in atoms) each angle was added for
         # numeric forms suffice to check peaks without re-solving (max_rounds 0)
-        self.tr = problem._transcription(16) if tr is None else tr
+        self.tr = problem._transcription() if tr is None else tr
         self.atoms = _peak_atoms(self.tr)
         self.rounds = 0
         self.iterations = 0  # of the re-solves after refinement
@@ -341,8 +342,10 @@ class _Certifier:
         return np.concatenate([self.problem.base_angles, self.extra])
 
     def checks(self, mech):
+        """The peak checks at ``mech``, the angles to add as ``(angle, index of the peak in
+        atoms or None)`` and the true peaks by measure identity."""
         checks, new, true_q = [], [], {}
-        for atom in self.atoms:
+        for k, atom in enumerate(self.atoms):
             try:
                 chk, angles, tq = check_peak(
                     atom, mech, self.grid, self.problem.speed, self.rtol, self.n_dense
@@ -351,24 +354,56 @@ class _Certifier:
                 where = list(getattr(exc, "angles", ()))
                 if not where:
                     raise _Unassembled(str(exc)) from exc
-                return [], where, {}
+                return [], [(a, None) for a in where], {}
             checks.append(chk)
-            new.extend(angles)
+            new.extend((a, k) for a in angles)
             true_q[id(atom.measure)] = tq
         return checks, new, true_q
 
-    def _add(self, angles):
+    def _add(self, found):
+        """Add the angles ``found`` (``(angle, peak index or None)``) to the grid; True when
+        the program had to grow (a new, larger transcription).
+
+        With a fixed slot count (``problem.slots``), an angle found within half a base step of
+        an earlier refinement angle of the same peak replaces it in the first half of the
+        rounds (the peak moved with the design: its slot, and the slot's multipliers, follow
+        it), so the slots hold about one angle per active peak; after that angles are only
+        added, as always without a slot count (a minimized peak can slide along a single
+        angle round after round; the angles kept on both sides then hold it). The program
+        grows (twice its slots) only when the angles outnumber its slots. The certificate is
+        the same: the final grid's peaks against the true peaks."""
         from ..kinematics.mechanism import input_domain
 
         periodic = input_domain(self.problem.mechanism)[2]
-        for a in angles:
-            if all(
-                abs(np.angle(np.exp(1j * (a - b))) if periodic else a - b) > 1e-12
-                for b in self.extra
-            ):
-                self.extra.append(a)
+
+        def dist(a, b):
+            return abs(np.angle(np.exp(1j * (a - b)))) if periodic else abs(a - b)
+
+        base = np.asarray(self.problem.base_angles, dtype=float)
+        step = 2.0 * np.pi / base.size if periodic else float(np.ptp(base)) / (base.size - 1)
+        moving = self.problem.slots is not None and self.rounds < self.max_rounds // 2
+        moved: set[int] = set()
+        for a, k in found:
+            if any(dist(a, b) <= 1e-12 for b in self.extra):
+                continue
+            if moving and k is not None:
+                near = [
+                    i
+                    for i, (b, o) in enumerate(zip(self.extra, self.owners))
+                    if o == k and i not in moved and dist(a, b) < 0.5 * step
+                ]
+                if near:
+                    i = min(near, key=lambda i: dist(a, self.extra[i]))
+                    self.extra[i] = a
+                    moved.add(i)
+                    continue
+            self.extra.append(a)
+            self.owners.append(k)
+            moved.add(len(self.extra) - 1)
         if len(self.extra) > self.tr.n_extra:
             n = int(2 ** np.ceil(np.log2(len(self.extra))))
+            if self.problem.slots is not None:
+                n = max(n, 2 * self.tr.n_extra)
             self.tr = self.problem._transcription(n)
             # the new transcription binds its own measure objects: the true peaks found from
             # now on must be keyed by them, or the final values miss them (dense-grid values)
@@ -390,13 +425,25 @@ class _Certifier:
                 return run, tuple(checks), True, true_q
             if self.rounds >= self.max_rounds:
                 return run, tuple(checks), False, true_q
+            before = self.tr
             rebuilt = self._add(new)
             self.rounds += 1
             P = self.tr.parameter_vector(self.grid, *run.scales)
-            warm = None if rebuilt else run.lam  # multipliers have the old size after a rebuild
+            warm = run.lam
+            if self.problem.slots is not None and self.rounds == 1:
+                # the first refinement adds every peak the base grid missed: its solve goes
+                # far from the base grid's optimum, which the multipliers (and the small
+                # barrier parameter of a warm start) would hold it near (the impact
+                # synthesis: a worse local optimum, 29.73 against 30.01 J). Later rounds move
+                # the angles little: warm
+                warm = None
+            if rebuilt:  # the multipliers have the old program's rows
+                fixed = self.problem.slots is not None and warm is not None
+                warm = self.tr.carry(warm, before) if fixed else None
+            del before
             n_grid = len(self.grid)
             x, status, raw, it, lam = local(self.tr, run.x, P, self.options, warm, n_grid)
-            if status != "optimal" and run.lam is not None:  # warm start failed: cold re-solve
+            if status != "optimal" and warm is not None:  # warm start failed: cold re-solve
                 self.iterations += it
                 x, status, raw, it, lam = local(self.tr, run.x, P, self.options, None, n_grid)
             self.iterations += it
@@ -477,7 +524,7 @@ def solve(
         local_method, starts = "ipopt", 1
         x0 = dict(zip(problem.names, problem._numeric().params_of(z_de)))
 
-    tr = problem._transcription(16)
+    tr = problem._transcription()
     grid = problem.base_angles
     points, skipped, reason, tried = _start_points(problem, tr, starts, seed, x0, grid)
     if not points:

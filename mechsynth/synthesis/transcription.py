@@ -590,6 +590,33 @@ class Transcription(NumericForms):
         ("functions"), built on first use."""
         return self.structure.solver(method, options)
 
+    def row_keys(self) -> list[tuple]:
+        """A key per row of ``g`` that names the same constraint in a program of another slot
+        count: ``(kind, branch, grid slot)`` for a per-angle epigraph row, ``(kind, ordinal,
+        -1)`` for the others (the refinement slots follow the base angles, so a slot's index is
+        the same in every program of the structure)."""
+        n_phi = self.n_base + self.n_extra
+        seen: dict = {}
+        keys = []
+        for kind, slot in zip(self.g_kinds, self.g_slots):
+            j = seen.get(kind, 0)
+            seen[kind] = j + 1
+            keys.append((kind, j // n_phi, int(slot)) if slot >= 0 else (kind, j, -1))
+        return keys
+
+    def carry(self, lam, other: Transcription):
+        """Multipliers ``(lam_x, lam_g)`` of a solve of ``other`` (the same problem with fewer
+        refinement slots) for a warm start of this program: each row's multiplier from the
+        same row of ``other``, zero for the new slots' rows."""
+        lam_x, lam_g = lam
+        where = {k: i for i, k in enumerate(other.row_keys())}
+        out = np.zeros(self.lbg.size)
+        for i, k in enumerate(self.row_keys()):
+            j = where.get(k)
+            if j is not None:
+                out[i] = lam_g[j]
+        return np.asarray(lam_x, dtype=float), out
+
     def replace_extra(self, n_extra: int) -> Transcription:
         """A new transcription with room for ``n_extra`` refinement angles."""
         return Transcription(self.problem, n_extra)

@@ -68,6 +68,12 @@ VARIABLES = {
 }
 
 
+#: refinement slots of the problem's program, allocated once (``Problem(slots=...)``): the
+#: program is costly to build (the symbolic kinetostatics), and a ladder of 16, 32, 64, 128
+#: slots built up to four programs per problem, each solve after a new one started cold
+SLOTS = 32
+
+
 def _bodies(mech, masses, drive_inertia):
     model = mech.force_model(inertias_for(mech, masses))
     return list(model.bodies.values()), model
@@ -295,6 +301,7 @@ def impact_problem(
         variables=dict(VARIABLES if variables is None else variables),
         speed=machine.omega,
         angles=angles,
+        slots=SLOTS,
     )
     prob.maximize(energy)
     prob.subject_to(
