@@ -77,3 +77,19 @@ def test_bad_model_inputs():
         ReducedModel(phi, z + 1.0, z, z, flywheel=-2.0)
     with pytest.raises(ValueError, match="mass"):
         LinkInertia("rod", "A", -3.0)
+
+
+@pytest.mark.parametrize("with_dm", [False, True])
+def test_scalar_terms_equal_the_splines_at_any_angle(with_dm):
+    """The integrators' one-angle evaluation (J, dJ, M) is the splines' own, wrapped to a turn."""
+    phi = np.linspace(0.0, 2 * np.pi, 37)
+    model = ReducedModel(
+        phi, 2 + np.cos(phi), -np.sin(phi), np.sin(2 * phi),
+        2 * np.cos(2 * phi) if with_dm else None,
+        extra=(lambda p, w: 0.1 * w,), flywheel=0.3,
+    )  # fmt: skip
+    rng = np.random.default_rng(3)
+    for p in [*rng.uniform(-20, 20, 100), 0.0, np.pi, 2 * np.pi, -1e-17, phi[5]]:
+        got = model.terms(p, 3.0)
+        want = (model.inertia(p), model.inertia_derivative(p), model.moment(p, 3.0))
+        assert got == pytest.approx([float(w) for w in want], rel=1e-14, abs=1e-14), p

@@ -87,10 +87,9 @@ def _check_omega0(omega0):
 
 def _rhs(model, drive):
     def f(phi, y):
-        w = y[0]
-        j = model.inertia(phi)
-        dj = model.inertia_derivative(phi)
-        return [(drive.torque(w) + model.moment(phi, w) - 0.5 * dj * w * w) / (j * w)]
+        w = float(y[0])
+        j, dj, m = model.terms(phi, w)
+        return [(drive.torque(w) + m - 0.5 * dj * w * w) / (j * w)]
 
     return f
 

@@ -433,12 +433,9 @@ def start_up(machine: ImpactMachine, motor=None, *, duration=0.6, samples=3000, 
     per_joule = ref.energy_delivered / ref.omega_before**2
 
     def f(t, y):
-        p, w = y
-        return [
-            w,
-            (motor.torque(w) + model.moment(p, w) - 0.5 * model.inertia_derivative(p) * w * w)
-            / model.inertia(p),
-        ]
+        p, w = float(y[0]), float(y[1])
+        j, dj, m = model.terms(p, w)
+        return [w, (motor.torque(w) + m - 0.5 * dj * w * w) / j]
 
     t_grid = np.linspace(0.0, float(duration), int(samples) + 1)
     ts, ps, ws, blows = [], [], [], []
