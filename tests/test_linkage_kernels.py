@@ -602,3 +602,41 @@ def test_the_c_arctan2_is_numpys_to_two_ulp(tmp_path, monkeypatch):
     big, _ = kernel(np.array([[3e-300], [-7.0], [np.nan]]), xs)
     np.testing.assert_allclose(big[0, :2], np.arctan2([[3e-300], [-7.0]], xs), rtol=4.5e-16)
     assert np.isnan(big[0, 2]).all()
+
+
+@pytest.mark.parametrize("name", ["six-link", "carried guide", "driving slider", "cylinder-rocker"])
+def test_one_designs_motion_on_the_kernel_is_the_models(name, backend, monkeypatch):
+    """``Linkage.motion(..., kernel=True)`` of one design on its structure's kernel (built on
+    first use): every output the model's to 1e-12, tracks of the inputs' shape, a block of its
+    own per call; the default is the model's, bit for bit, whether a kernel is held or not; a
+    design the kernel finds not finite goes to the model, which raises."""
+    monkeypatch.setattr(lkk, "_KERNELS", {})
+    lk, _ = _batch(name)
+    phi, speed = _phi(lk), ms.rpm(600)
+    model = lk.motion(phi, speed=speed, epsilon=3.0)
+    assert lkk.held_kernel(lk) is None
+    fast = lk.motion(phi, speed=speed, epsilon=3.0, kernel=True)
+    kernel = lkk.held_kernel(lk)
+    assert kernel is not None and kernel.backend == backend
+    assert lkk.held_kernel(lk(AB=lk.parameters["AB"])) is kernel
+    _same_motion(model, fast)
+    assert all(np.shape(v) == phi.shape for t in fast.points.values() for v in vars(t).values())
+    assert fast.omega == speed and fast.epsilon == 3.0
+    again = lk.motion(phi, speed=speed, epsilon=3.0, kernel=True)
+    assert not np.shares_memory(again.points["A"].x, fast.points["A"].x)  # its own block
+    after = lk.motion(phi, speed=speed, epsilon=3.0)  # the model, although a kernel is held
+    for k, t in model.points.items():
+        for a, b in zip(vars(t).values(), vars(after.points[k]).values()):
+            np.testing.assert_array_equal(a, b)
+    if name == "six-link":
+        with pytest.raises(MechanismError, match="cannot|assembl"):
+            lk(DB=0.02).motion(phi, kernel=True)  # not finite on the kernel: the model raises
+
+
+def test_an_angle_array_of_another_shape_or_a_number_takes_the_model(backend):
+    lk = six_link()
+    grid = PHI.reshape(9, 10)
+    np.testing.assert_array_equal(
+        lk.motion(grid, kernel=True).points["N"].x, lk.motion(grid).points["N"].x
+    )
+    assert np.ndim(lk.motion(0.3, kernel=True).points["N"].x) == 0

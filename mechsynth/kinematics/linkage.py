@@ -187,6 +187,9 @@ class Topology:
     driver: str
 
 
+_KERNEL_MODULE: list = [None]  # linkage_kernels, once imported
+
+
 class Linkage(Drawable):
     """A planar linkage: ground points, a driver (a crank or a driving slider) and groups in
     solving order.
@@ -1053,9 +1056,19 @@ class Linkage(Drawable):
         st = self._solve(phi)
         return st.points, st.links, st.sliders
 
-    def motion(self, phi, speed=None, epsilon=0.0) -> Motion:
+    def motion(self, phi, speed=None, epsilon=0.0, *, kernel: bool = False) -> Motion:
         """Motion over the inputs ``phi``: crank angles (rad), or the displacements ``s`` (m)
         of a driving slider (:meth:`slider`).
+
+        With ``kernel=True``, one design (every parameter a number) at a 1-D array of inputs
+        is evaluated on the compiled kernel of its structure
+        (:func:`~mechsynth.kinematics.linkage_kernels.linkage_kernel`: compiled once per
+        machine, about a second with a C compiler, then loaded from the disk cache) -- every
+        output within 1e-12 of the model's, some 4 x faster than the model for a six-bar at
+        360 angles; anything else (batches, symbols, a cam follower, no compiler nor numba,
+        a design whose outputs are not all finite) takes the model, which raises where a group
+        cannot close. The default is the model itself: its numbers do not depend on what
+        this process compiled before.
 
         Parameters
         ----------
@@ -1096,7 +1109,26 @@ class Linkage(Drawable):
                     eps,
                     arrays=self._motion_arrays,
                 )
+                if kernel and type(phi) is np.ndarray and phi.ndim == 1:
+                    fast = self._on_kernel(phi, omega, eps)
+                    if fast is not None:
+                        return fast
         return self._motion(self._solve(phi), phi, omega, eps)
+
+    def _on_kernel(self, phi, omega, eps) -> Motion | None:
+        """The motion of this one numeric design on its structure's kernel (built or loaded on
+        first use), or None (no kernel, parameters not all numbers, an output not finite)."""
+        if {*map(type, self._values.values())} != {float}:
+            return None
+        lkk = _KERNEL_MODULE[0]
+        if lkk is None:  # imported once (a function-level import costs a microsecond a call)
+            from . import linkage_kernels as lkk
+
+            _KERNEL_MODULE[0] = lkk
+        kernel = lkk.held_kernel(self) or lkk.linkage_kernel(self)
+        if kernel is None:
+            return None
+        return lkk.one_motion(self, phi, omega, eps, kernel)
 
     def _motion(self, st: _State, phi, omega, eps, scaled=False) -> Motion:
         """The :class:`Motion` of a solved state (of the model, or of the compiled kernel);

@@ -66,6 +66,7 @@ import sys
 import tempfile
 import threading
 from dataclasses import dataclass
+from operator import itemgetter
 from pathlib import Path
 
 import numpy as np
@@ -86,6 +87,7 @@ __all__ = [
     "linkage_batch",
     "kernel_backend",
     "c_compiler",
+    "held_kernel",
 ]
 
 # casadi operation -> Python expression over the inputs {0}, {1} (scalar_ops as ``so``)
@@ -185,10 +187,10 @@ class LinkageKernel:
         :data:`~mechsynth.kinematics.compiled.PARALLEL_MIN` evaluations. ``speed``:
         ``(omega, epsilon)`` of the input, which the analog rows are turned into time
         derivatives with (None: the analogs)."""
-        from .compiled import PARALLEL_MIN
-
         if self.backend == "c":
             return _run_c(self, params, phi, out, flags, threads, speed)
+        from .compiled import PARALLEL_MIN
+
         params = np.require(params, float, ["C", "W"])  # one array type per compiled kernel
         n, m = params.shape[0], phi.shape[0]
         if out is None:
@@ -216,13 +218,18 @@ class LinkageKernel:
 _F64 = np.dtype(np.float64)
 
 
+@functools.cache
+def _parallel_min() -> int:
+    from .compiled import PARALLEL_MIN
+
+    return PARALLEL_MIN
+
+
 def _run_c(kernel, params, phi, out, flags, threads, speed):
     """:meth:`LinkageKernel.__call__` on the C loop: its arrays passed by address (``out`` and
     ``flags`` through contiguous copies when they are not writable C-ordered doubles of their
     shape), the designs split over the cores' threads for large batches (ctypes releases
     Python's lock during the call; each design's rows are its own: the same result)."""
-    from .compiled import PARALLEL_MIN
-
     if not (type(params) is np.ndarray and params.dtype is _F64 and params.flags.c_contiguous):
         params = np.ascontiguousarray(params, dtype=float)
     if not (type(phi) is np.ndarray and phi.dtype is _F64 and phi.flags.c_contiguous):
@@ -251,7 +258,7 @@ def _run_c(kernel, params, phi, out, flags, threads, speed):
         params.shape[1], _address(params), *grid[3:], w, e, _address(o), _address(fl),
     )  # fmt: skip
     fn = kernel.serial
-    parallel = (n * m >= PARALLEL_MIN) if threads is None else bool(threads)
+    parallel = (n * m >= _parallel_min()) if threads is None else bool(threads)
     workers = min(n, os.cpu_count() or 1) if parallel else 1
     if workers > 1:
         cuts = [n * k // workers for k in range(workers + 1)]
@@ -1177,6 +1184,44 @@ def linkage_batch(linkage, phi, speed=None, workspace=None, kernel=None, wait=Tr
     return _recipe(linkage, kernel).motion(out, phi, omega, eps), good, failed
 
 
+def held_kernel(linkage) -> LinkageKernel | None:
+    """The kernel of ``linkage``'s structure that this process holds already (built or loaded
+    by an earlier :func:`linkage_kernel` or batch call), else None. Never builds, never reads
+    the disk: remembered per structure by the identity of the linkage's groups (hashing them
+    costs microseconds), so :meth:`Linkage.motion` asks it on every call."""
+    groups, ground, kernels = linkage._groups, linkage._ground, _KERNELS
+    hit = _HELD.get(id(groups))
+    if (
+        hit is not None and hit[0] is groups and hit[1] is ground and hit[2] is kernels
+        and hit[3] == len(kernels)
+    ):  # fmt: skip
+        return hit[4]  # (a kernel built since, of any structure, changes the count)
+    backend = kernel_backend(probe=False)
+    kernel = None if backend is None else kernels.get((backend, _structure(linkage)))
+    if len(_HELD) > 256:  # bounded: linkages built anew in a loop add identities
+        _HELD.clear()
+    _HELD[id(groups)] = (groups, ground, kernels, len(kernels), kernel)
+    return kernel
+
+
+_HELD: dict = {}
+
+
+def one_motion(linkage, phi, omega, eps, kernel) -> Motion | None:
+    """The :class:`Motion` of ``linkage``'s one numeric design (every parameter a float) at the
+    1-D inputs ``phi`` on ``kernel``, its tracks ``(m,)`` views of a block of its own; None
+    where an output is not finite (the model then judges: it raises where a group cannot
+    close)."""
+    values = linkage._values
+    m = phi.shape[0]
+    out = np.empty((kernel.outputs, 1, m))
+    _, flags = kernel(np.array([[values[k] for k in kernel.names]]), phi, out, None, False,
+                      (omega, eps))  # fmt: skip
+    if flags[0, 0] != 0.0:
+        return None
+    return _recipe(linkage, kernel).motion(out.reshape(kernel.outputs, m), phi, omega, eps)
+
+
 class _Recipe:
     """Where each field of a linkage's :class:`Motion` lies in its kernel's block: row indices
     read back from the model's own ``Linkage._motion`` once per structure (which track is the
@@ -1197,8 +1242,10 @@ class _Recipe:
         def row(value):  # the row a field of the reference motion is a view of (-1: none)
             return int(np.asarray(value).reshape(-1)[0]) - 1
 
-        def tracks(named):
-            return tuple((k, tuple(row(v) for v in vars(t).values())) for k, t in named.items())
+        def tracks(named):  # a track's rows picked from the block's by one C call
+            return tuple(
+                (k, itemgetter(*(row(v) for v in vars(t).values()))) for k, t in named.items()
+            )
 
         self.points, self.links = tracks(ref.points), tracks(ref.links)
         self.sliders = tracks(ref.sliders)
@@ -1225,9 +1272,9 @@ class _Recipe:
         rows = list(out)  # the block's rows as views, made at once
         point, link = PointTrack.of, LinkTrack.of
         got = (
-            {k: point(*[rows[r] for r in rs]) for k, rs in self.points},
-            {k: link(*[rows[r] for r in rs]) for k, rs in self.links},
-            {k: SliderTrack(*[rows[r] for r in rs]) for k, rs in self.sliders},
+            {k: point(*pick(rows)) for k, pick in self.points},
+            {k: link(*pick(rows)) for k, pick in self.links},
+            {k: SliderTrack(*pick(rows)) for k, pick in self.sliders},
             rows[self.pressure] if self.pressure >= 0 else np.zeros(out.shape[1:]),
             None if self.transmission is None else rows[self.transmission],
             {
