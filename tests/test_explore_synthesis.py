@@ -1,8 +1,10 @@
 """Path and function generation in the explorer: the page's logic (:mod:`mechsynth.explore.
 synthesis_model`) against the library's engines, the page object driven from Python, and (marked
-``browser`` and ``slow``) what a user sees in headless Chromium: clicked targets and poses, the
-ranked path generators, one previewed and loaded, a function generator's error curve and
-design, and a linkage file of more than 16 dimensions opened after the page loaded.
+``browser`` and ``slow``) what a user sees in headless Chromium: clicked and dragged targets and
+poses, the ranked path generators (four-bars, slider-cranks, a point of the page's linkage; free
+or prescribed crank angles), one previewed and loaded, a function generator's error curve,
+design and certified min-max stage, and a linkage file of more than 16 dimensions opened after
+the page loaded.
 """
 
 import math
@@ -414,6 +416,7 @@ def test_the_page_object_drags_targets_and_undoes_the_moves(page):
     assert page.poses_input.value.splitlines()[-1] == "50, 50, 90"
 
 
+@pytest.mark.slow
 def test_the_page_object_searches_its_linkage_and_runs_the_min_max(page):
     syn = page.synthesis
     page.view()
@@ -483,13 +486,13 @@ CANVAS = """([x, y]) => { const d = Bokeh.documents[0], f = d.get_model_by_name(
   const v = Bokeh.index.find_one(f), r = v.canvas_view.el.getBoundingClientRect();
   return [r.left + v.frame.x_scale.compute(x), r.top + v.frame.y_scale.compute(y)]; }"""
 # the largest distance (display units) from a target to the path P takes in the browser
-GAP = """() => { const d = Bokeh.documents[0];
+GAP = """(p) => { const d = Bokeh.documents[0];
   const F = d.get_model_by_name('frames').data, T = d.get_model_by_name('targets').data_source.data;
   let worst = 0;
   for (let i = 0; i < T.x.length; i++) {
     let best = Infinity;
-    for (let k = 0; k < F['x:P'].length; k++)
-      best = Math.min(best, Math.hypot(F['x:P'][k] - T.x[i], F['y:P'][k] - T.y[i]));
+    for (let k = 0; k < F['x:' + p].length; k++)
+      best = Math.min(best, Math.hypot(F['x:' + p][k] - T.x[i], F['y:' + p][k] - T.y[i]));
     worst = Math.max(worst, best);
   }
   return [T.x.length, worst]; }"""
@@ -582,7 +585,7 @@ def test_in_the_browser_clicked_points_ranked_path_generators_previewed_and_one_
             timeout=30_000,
         )
         page.wait_for_timeout(800)
-        n, gap = page.evaluate(GAP)
+        n, gap = page.evaluate(GAP, "P")
         assert n == 6 and gap < 3.0  # mm: within the spacing of the 180 frames sent
         expect(page.get_by_label("O1A, mm", exact=True)).to_be_visible(timeout=30_000)
     finally:
@@ -630,16 +633,28 @@ def test_in_the_browser_a_function_generator_and_clicked_and_dragged_poses(
         expect(poses).to_have_value(re.compile(r", 30$"), timeout=30_000)  # at 30 deg
         x, y, a = (float(v) for v in poses.input_value().splitlines()[-1].split(","))
         assert (x, y, a) == (pytest.approx(0, abs=1), pytest.approx(100, abs=1), 30.0)
-        # a drag from (0, 100) mm up and to the right: a pose there at 45 deg
-        a, b = page.evaluate(CANVAS, [0, 100]), page.evaluate(CANVAS, [40, 140])
-        page.mouse.move(*a)
-        page.mouse.down()
-        page.mouse.move((a[0] + b[0]) / 2, (a[1] + b[1]) / 2, steps=4)
-        page.mouse.move(*b, steps=4)
-        page.mouse.up()
+        # a drag from that pose's square moves it; from its line's end turns it
+        _drag(page, page.evaluate(CANVAS, [0, 100]), page.evaluate(CANVAS, [40, 140]))
+        expect(poses).not_to_have_value(re.compile(r"\n0, 100, 30$"), timeout=30_000)
+        x, y, a = (float(v) for v in poses.input_value().splitlines()[-1].split(","))
+        assert (x, y, a) == (pytest.approx(40, abs=2), pytest.approx(140, abs=2), 30.0)
+        page.wait_for_timeout(500)
+        tip = page.evaluate(
+            f"() => {{ const P = Bokeh.documents[0].get_model_by_name('synth-poses').data;"
+            f" return [P.xs[{n}][1], P.ys[{n}][1]]; }}"
+        )
+        _drag(page, page.evaluate(CANVAS, tip), page.evaluate(CANVAS, [x, tip[1] + 30]))
+        expect(poses).to_have_value(re.compile(r", 90$"), timeout=30_000)  # straight up
+        x2, y2, _ = (float(v) for v in poses.input_value().splitlines()[-1].split(","))
+        assert (x2, y2) == (x, y)
+        page.get_by_role("button", name="Undo the pose move").click()
+        expect(poses).to_have_value(re.compile(r", 30$"), timeout=30_000)
+        # a drag from an empty place (up and to the right): a new pose there at 45 deg
+        _drag(page, page.evaluate(CANVAS, [0, 100]), page.evaluate(CANVAS, [40, 140]))
         expect(poses).to_have_value(re.compile(r", 45$"), timeout=30_000)
         x, y, a = (float(v) for v in poses.input_value().splitlines()[-1].split(","))
         assert (x, y) == (pytest.approx(0, abs=2), pytest.approx(100, abs=2))
+        assert len(poses.input_value().splitlines()) == n + 2
         # back to the function generator, loaded into the page
         page.get_by_text("Function (y = f(x))", exact=True).click()
         page.get_by_role("button", name="Load the function generator").click()
@@ -729,5 +744,200 @@ def test_in_the_browser_a_file_of_18_dimensions_opened_later_shows_every_row(
         _select(page, "Mechanism", "Four-bar")  # fewer dimensions: the rest hidden
         expect(page.get_by_label("ground, mm", exact=True)).to_be_visible(timeout=120_000)
         assert page.get_by_label("EC, mm", exact=True).count() == 0
+    finally:
+        page.close()
+
+
+def _drag(page, a, b):
+    """A mouse drag on the page from ``a`` to ``b`` (pixels)."""
+    page.mouse.move(*a)
+    page.mouse.down()
+    page.mouse.move((a[0] + b[0]) / 2, (a[1] + b[1]) / 2, steps=4)
+    page.mouse.move(*b, steps=4)
+    page.mouse.up()
+
+
+def _loaded(page, title, n, point):
+    """Wait until the page shows ``title`` with ``n`` targets on its drawing; return the
+    largest distance (mm) from a target to the path of ``point`` sent to the browser."""
+    assert _menu_shows(page, title) == title
+    page.wait_for_function(
+        f"() => Bokeh.documents[0].get_model_by_name('targets').data_source.data.x.length"
+        f" === {n}",
+        timeout=30_000,
+    )
+    page.wait_for_timeout(800)
+    shown, gap = page.evaluate(GAP, point)
+    assert shown == n
+    return gap
+
+
+@pytest.mark.browser
+@pytest.mark.slow
+def test_in_the_browser_a_dragged_point_and_slider_cranks_free_and_at_prescribed_angles(
+    browser, server  # noqa: F811
+):
+    from playwright.sync_api import expect
+
+    page = _open(browser, server)
+    page.set_default_timeout(120_000)
+    try:
+        page.get_by_text("Synthesis", exact=True).click()
+        page.get_by_text("Path (points)", exact=True).click()
+        points = page.get_by_label("Target points of the coupler point, one a line: x, y (mm)")
+        expect(points).to_have_value(sm.DEFAULT_POINTS, timeout=30_000)
+        page.wait_for_function(
+            "() => Bokeh.documents[0].get_model_by_name('synth-points').data.x.length === 6",
+            timeout=20_000,
+        )
+        # point 1 (61.42, 166.96) mm dragged to (45, 190): its line and its mark follow
+        _drag(page, page.evaluate(CANVAS, [61.42, 166.96]), page.evaluate(CANVAS, [45, 190]))
+        expect(points).not_to_have_value(sm.DEFAULT_POINTS, timeout=30_000)
+        lines = points.input_value().splitlines()
+        x, y = (float(v) for v in lines[0].split(","))
+        assert (x, y) == (pytest.approx(45, abs=1), pytest.approx(190, abs=1))
+        assert lines[1:] == sm.DEFAULT_POINTS.splitlines()[1:]
+        page.wait_for_function(
+            "() => Math.abs(Bokeh.documents[0].get_model_by_name('synth-points').data.x[0]"
+            " - 45) < 1", timeout=20_000,
+        )  # fmt: skip
+        page.get_by_role("button", name="Undo the target move").click()
+        expect(points).to_have_value(sm.DEFAULT_POINTS, timeout=30_000)
+        expect(page.get_by_role("button", name="Undo the target move")).to_be_disabled()
+        # a slider-crank through the six points, free timing
+        page.get_by_label("Mechanism to synthesize").select_option(
+            label="slider-crank: a point on its rod"
+        )
+        page.get_by_label("Path starts").fill("2")
+        page.get_by_label("Path starts").press("Enter")
+        page.wait_for_timeout(500)
+        page.get_by_role("button", name="Find path generators").click()
+        state = page.locator("#path-state")
+        state.get_by_text(re.compile(r"slider-cranks? through the 6")).wait_for(timeout=180_000)
+        head = page.locator("#path-table tr").nth(0).locator("th").all_inner_texts()
+        assert head[4:8] == ["O_x, mm", "O_y, mm", "OA, mm", "AB, mm"]
+        assert "guide_angle, deg" in head
+        first = page.locator("#path-table tr").nth(1).locator("td").all_inner_texts()
+        assert first[0] == "1" and float(first[1]) < 1e-3 and float(first[3]) >= 30 - 1e-6
+        page.wait_for_function(  # the preview's path over the points
+            "() => Bokeh.documents[0].get_model_by_name('synth-curve').data.x.length > 100",
+            timeout=20_000,
+        )
+        page.get_by_role("button", name="Load the path generator").click()
+        gap = _loaded(page, "Path generation: solution 1", 6, "P")
+        assert gap < 3.0  # mm: within the spacing of the frames sent
+        expect(page.get_by_label("AB, mm", exact=True)).to_have_value(
+            f"{float(first[7]):.6g}", timeout=30_000
+        )
+        # a four-bar at prescribed crank angles, evenly spaced by the button
+        page.get_by_text("Synthesis", exact=True).click()
+        page.get_by_label("Mechanism to synthesize").select_option(
+            label="four-bar: its coupler point"
+        )
+        page.get_by_label("Timing").select_option(
+            label="prescribed: the crank angle at each point given"
+        )
+        angles = page.get_by_label(
+            "Crank angle at each point, deg (only their differences count)"
+        )
+        page.get_by_role("button", name="Evenly spaced angles").click()
+        expect(angles).to_have_value("0, 60, 120, 180, 240, 300", timeout=30_000)
+        page.get_by_role("button", name="Find path generators").click()
+        state.get_by_text(re.compile(r"four-bars? through the 6 points, at the crank angles "
+                                     "given")).wait_for(timeout=180_000)  # fmt: skip
+        head = page.locator("#path-table tr").nth(0).locator("th").all_inner_texts()
+        assert head[4:8] == ["crank, mm", "coupler, mm", "rocker, mm", "ground, mm"]
+        # 21.0 mm at best at these angles (2 starts); the points' own angles are not even
+        first = page.locator("#path-table tr").nth(1).locator("td").all_inner_texts()
+        assert 1.0 < float(first[1]) < 50.0
+    finally:
+        page.close()
+
+
+@pytest.mark.browser
+@pytest.mark.slow
+def test_in_the_browser_a_point_of_the_six_link_synthesized_and_a_certified_min_max(
+    browser, server  # noqa: F811
+):
+    from playwright.sync_api import expect
+
+    page = _open(browser, server)
+    page.set_default_timeout(120_000)
+    try:
+        _select(page, "Mechanism", "Linkage (six-link of paper 001, or a TOML file)")
+        expect(page.get_by_label("KN, mm", exact=True)).to_be_visible(timeout=120_000)
+        page.get_by_text("Synthesis", exact=True).click()
+        page.get_by_text("Path (points)", exact=True).click()
+        page.get_by_label("Mechanism to synthesize").select_option(
+            label="the page's linkage: a point of it"
+        )
+        trace = page.get_by_label("Point to follow")
+        expect(trace).to_be_visible(timeout=30_000)
+        trace.select_option("K")
+        page.wait_for_timeout(500)
+        page.get_by_role("button", name="Six points of the followed point's path").click()
+        points = page.get_by_label("Target points of the coupler point, one a line: x, y (mm)")
+        expect(points).not_to_have_value(sm.DEFAULT_POINTS, timeout=30_000)
+        six = State.default("linkage", units="mm-deg")
+        k = six.kind.build(six.values).motion(sm.even_angles(6)).points["K"]
+        want = np.column_stack([k.x, k.y]) * 1e3
+        got = np.array([[float(v) for v in r.split(",")] for r in points.input_value().split("\n")])
+        assert got == pytest.approx(want, abs=1e-3)
+        # the first point dragged 4 mm towards the others' centre: no longer on K's path
+        page.wait_for_function(  # the points drawn, the view fitted to them
+            """([x, y]) => { const d = Bokeh.documents[0];
+              const P = d.get_model_by_name('synth-points').data;
+              const f = d.get_model_by_name('synth-canvas');
+              return P.x.length === 6 && Math.abs(P.x[0] - x) < 0.01
+                && f.x_range.start < x && x < f.x_range.end
+                && f.y_range.start < y && y < f.y_range.end; }""",
+            arg=want[0].tolist(), timeout=20_000,
+        )  # fmt: skip
+        page.wait_for_timeout(1000)
+        towards = want.mean(axis=0) - want[0]
+        end = want[0] + 4.0 * towards / np.hypot(*towards)
+        _drag(page, page.evaluate(CANVAS, want[0].tolist()), page.evaluate(CANVAS, end.tolist()))
+        expect(points).not_to_have_value(points.input_value(), timeout=30_000)
+        moved = [float(v) for v in points.input_value().split("\n")[0].split(",")]
+        assert moved == [pytest.approx(end[0], abs=1), pytest.approx(end[1], abs=1)]
+        page.get_by_label("Path starts").fill("2")
+        page.get_by_label("Path starts").press("Enter")
+        page.wait_for_timeout(500)
+        page.get_by_role("button", name="Find path generators").click()
+        state = page.locator("#path-state")
+        state.get_by_text(re.compile(r"designs? through the 6 points")).wait_for(timeout=180_000)
+        head = page.locator("#path-table tr").nth(0).locator("th").all_inner_texts()
+        assert "DB, mm" in head and "phase, deg" not in head  # the phase is not varied
+        first = page.locator("#path-table tr").nth(1).locator("td").all_inner_texts()
+        assert float(first[1]) < 1.0  # mm: the dimensions around the design reach the point
+        page.get_by_role("button", name="Load the path generator").click()
+        gap = _loaded(page, "Path generation: solution 1", 6, "K")
+        assert gap < float(first[1]) + 3.0  # mm: its distance, and the frames' spacing
+        # the function generator and its certified min-max stage
+        page.get_by_text("Synthesis", exact=True).click()
+        page.get_by_text("Function (y = f(x))", exact=True).click()
+        page.get_by_role("button", name="Generate the function").click()
+        page.locator("#function-design").wait_for(timeout=60_000)
+        page.get_by_role("button", name="Minimize the worst error (certified min-max)").click()
+        cert = page.locator("#function-certificate")
+        cert.get_by_text("certified: the worst error is the true one").wait_for(timeout=180_000)
+        ref = ms.function_generation(
+            "log10(x)", x=(1, 10), input_range=ms.deg(60), output_range=ms.deg(90), ground=0.1,
+            require_crank=True, optimize=True,
+        )  # fmt: skip
+        words = cert.inner_text()
+        before, after = math.degrees(ref.start_max_error), math.degrees(ref.max_error)
+        assert f"{before:.4g} deg before the min-max stage, {after:.4g} deg after" in words
+        shown = float(page.locator("#function-max-error").inner_text())
+        assert shown == pytest.approx(after, rel=1e-3)
+        assert len(_data(page, "function-error-before", "y")) == 401
+        err = _data(page, "function-error-curve", "y")
+        assert max(abs(v) for v in err) == pytest.approx(after, rel=1e-6)
+        page.get_by_role("button", name="Load the function generator").click()
+        title = "Function generation: y = log10(x)"
+        assert _menu_shows(page, title) == title
+        expect(page.get_by_label("O1A, mm", exact=True)).to_have_value(
+            f"{ref.design.crank * 1e3:.6g}", timeout=30_000
+        )
     finally:
         page.close()

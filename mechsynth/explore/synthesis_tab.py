@@ -207,7 +207,7 @@ class SynthesisTab:
     def __init__(self, app):
         import panel as pn
         from bokeh.events import PanEnd, PanStart, Tap
-        from bokeh.models import Button, ColumnDataSource, CustomJS, Slider
+        from bokeh.models import Button, ColumnDataSource, CustomJS, Range1d, Slider
         from bokeh.plotting import figure
 
         from .app import _widget
@@ -231,6 +231,8 @@ class SynthesisTab:
             height=300, min_width=280, sizing_mode="stretch_width",
             tools="pan,wheel_zoom,reset", title="click to place a target point or a pose",
             x_axis_label="x", y_axis_label="y", name="synth-canvas",
+            # fixed ranges, set by the fit: a data range would follow a dragged mark
+            x_range=Range1d(0, 1), y_range=Range1d(0, 1),
         )  # fmt: skip
         self.fig.toolbar.active_scroll = None
         self.fig.toolbar.active_drag = None  # a click places; pan is a click away
@@ -298,7 +300,7 @@ class SynthesisTab:
         self.points_input.param.watch(lambda e: self._draw_inputs(), "value")
         self.path_mech = _widget(
             pn.widgets.Select,
-            "Mechanism",
+            "Mechanism to synthesize",
             options={
                 "four-bar: its coupler point": "four-bar",
                 "slider-crank: a point on its rod": "slider-crank",
@@ -451,6 +453,11 @@ class SynthesisTab:
         )
         app.poses_input.param.watch(lambda e: self._draw_inputs(), "value")
         self._draw_inputs()
+        if self._fitted is not None:  # the view before the browser fits it to its canvas
+            x0, x1, y0, y1 = self._fitted
+            m = 0.08 * _size(self._fitted)
+            self.fig.x_range.update(start=x0 - m, end=x1 + m)
+            self.fig.y_range.update(start=y0 - m, end=y1 + m)
 
     # ------------------------------------------------------------------ layout
     def panel(self, motion):
@@ -587,17 +594,18 @@ class SynthesisTab:
         ``"pose"`` (its place) or ``"angle"`` (its axis end), ``i`` its row; or None."""
         if self._fitted is None:
             return None
+        # from the lists, not the canvas's marks: the browser moves those while dragging
         best, grab = HIT * _size(self._fitted), None
-        pts, poses = self.src_points.data, self.src_poses.data
-        for i, (px, py) in enumerate(zip(pts["x"], pts["y"])):
+        pts, poses, tips = self._marks()
+        for i, (px, py) in enumerate(pts):
             d = math.hypot(px - x, py - y)
             if d <= best:
                 best, grab = d, ("point", i)
-        for i, (px, py) in enumerate(zip(poses["x"], poses["y"])):
-            d = math.hypot(px - x, py - y)
+        for i, (p, tip) in enumerate(zip(poses, tips)):
+            d = math.hypot(p[0] - x, p[1] - y)
             if d <= best:
                 best, grab = d, ("pose", i)
-            t = math.hypot(poses["xs"][i][1] - x, poses["ys"][i][1] - y)
+            t = math.hypot(tip[0] - x, tip[1] - y)
             if t < best:
                 best, grab = t, ("angle", i)
         return grab
@@ -664,11 +672,23 @@ class SynthesisTab:
                 self.app.poses_input.value, f"{x:.6g}, {y:.6g}, {angle:.6g}"
             )
 
+    def _marks(self):
+        """The targets the canvas shows, from the typed lists (display units): the points
+        (path generation), the poses and the ends of their lines (motion generation)."""
+        task = self._task()
+        pts = _rows(self.points_input.value, 2) if task == "path" else []
+        poses = _rows(self.app.poses_input.value, 3) if task == "motion" else []
+        ext = _extent(pts + [p[:2] for p in poses])
+        r = 0.06 * max(ext[1] - ext[0], ext[3] - ext[2]) if ext else 0.0
+        tips = [(p[0] + r * math.cos(math.radians(p[2])), p[1] + r * math.sin(math.radians(p[2])))
+                for p in poses]  # fmt: skip
+        return pts, poses, tips
+
     def _draw_inputs(self):
         """The typed or clicked targets and poses on the canvas (lines that do not read are
         left out here; the search names them)."""
         task = self._task()
-        pts = _rows(self.points_input.value, 2) if task == "path" else []
+        pts, poses, tips = self._marks()
         self.fig.title.text = {
             "path": "click to add a target point",
             "function": "the function generator over its input range",
@@ -678,20 +698,18 @@ class SynthesisTab:
             x=[p[0] for p in pts], y=[p[1] for p in pts],
             label=[str(i) for i in range(1, len(pts) + 1)],
         )  # fmt: skip
-        poses = _rows(self.app.poses_input.value, 3) if task == "motion" else []
         ext = _extent(pts + [p[:2] for p in poses])
-        r = 0.06 * max(ext[1] - ext[0], ext[3] - ext[2]) if ext else 0.0
         self.src_poses.data = dict(
             x=[p[0] for p in poses], y=[p[1] for p in poses],
-            xs=[[p[0], p[0] + r * math.cos(math.radians(p[2]))] for p in poses],
-            ys=[[p[1], p[1] + r * math.sin(math.radians(p[2]))] for p in poses],
+            xs=[[p[0], t[0]] for p, t in zip(poses, tips)],
+            ys=[[p[1], t[1]] for p, t in zip(poses, tips)],
         )  # fmt: skip
         unit = self.app.state.unit_label("m")
         self.fig.xaxis.axis_label = f"x, {unit}"
         self.fig.yaxis.axis_label = f"y, {unit}"
         if ext and not _inside(ext, self._fitted):
             fitted = self._fitted
-            if fitted is not None and _size(ext) < 0.2 * _size(fitted):
+            if fitted is not None and _size(ext) < 0.2 * _size(fitted) and _meets(ext, fitted):
                 # a point clicked or typed just outside: the view grows, it does not jump
                 ext = (min(ext[0], fitted[0]), max(ext[1], fitted[1]),
                        min(ext[2], fitted[2]), max(ext[3], fitted[3]))  # fmt: skip
@@ -1225,6 +1243,12 @@ def _mechanism_of(sol) -> str:
     if sol.fourbar is not None:
         return "four-bar"
     return "slider-crank" if sol.linkage.name == "slider-crank path generator" else "linkage"
+
+
+def _meets(ext, fitted) -> bool:
+    """The extents overlap (or touch)."""
+    return not (ext[1] < fitted[0] or ext[0] > fitted[1] or ext[3] < fitted[2]
+                or ext[2] > fitted[3])  # fmt: skip
 
 
 def _esc(text) -> str:
