@@ -52,7 +52,7 @@ def test_default_chunk_rule():
     spec = charts._SweepSpec(ms.SliderCrank, {}, (1,), 1, {}, None, None, {},
                              ms.cycle(360), None, True)  # fmt: skip
     # on the kernels: a block of KERNEL_BLOCK doubles; on the model: MODEL_CHUNK evaluations
-    assert charts._default_chunk(spec, 8) == charts.KERNEL_BLOCK // (8 * 360) == 1456
+    assert charts._default_chunk(spec, 8) == charts.KERNEL_BLOCK // (8 * 360) == 5825
     assert charts._default_chunk(spec, 40) == charts.KERNEL_BLOCK // (40 * 360)
     assert charts._default_chunk(spec, None) == charts.MODEL_CHUNK // 360 == 182
 
@@ -124,21 +124,21 @@ def test_executor_tasks_hold_several_chunks_and_give_the_local_chart(monkeypatch
         remote = charts.slider_crank_chart(**GRID, angles=36, progress=False, chunk=3,
                                            executor=pool)  # fmt: skip
     _identical(remote, local)
-    # each task's overhead at most 5 % of its work, at least 8 tasks
-    assert 8 <= _DaskLike.tasks < n_chunks
+    # each task's overhead at most 5 % of its work, at least two tasks per worker
+    assert 4 <= _DaskLike.tasks < n_chunks
 
 
 def test_chunks_per_task_follow_the_measured_costs(monkeypatch):
     spec = charts._SweepSpec(ms.SliderCrank, {}, (1,), 1456, {}, None, None, {},
                              ms.cycle(360), None, True)  # fmt: skip
-    dask, pool = _DaskLike(1), ThreadPoolExecutor(1)
+    dask, pool = _DaskLike(4), ThreadPoolExecutor(1)
     monkeypatch.setattr(charts, "_OVERHEADS", {id(dask): 8e-3})  # as if measured on it
     try:
         chunk_s = 1456 * 360 * charts.EVALUATION_COST["named kernel"]
         want = int(np.ceil(8e-3 / charts.TASK_OVERHEAD_SHARE / chunk_s))
         assert charts.TASK_OVERHEAD_SHARE == 0.05
         assert charts._chunks_per_task(dask, spec, 8, 10_000) == want > 1
-        assert charts._chunks_per_task(dask, spec, 8, 16) == 2  # 8 tasks left to share
+        assert charts._chunks_per_task(dask, spec, 8, 16) == 2  # two tasks for each of 4
         # a pool's task costs 0.2 ms: two chunks of 3.8 ms outweigh it 20 times
         pool_want = int(np.ceil(charts.TASK_OVERHEAD["default"] / 0.05 / chunk_s))
         assert charts._chunks_per_task(pool, spec, 8, 10_000) == pool_want < want
@@ -159,6 +159,9 @@ class _Scheduler:
 class _Client:
     scheduler = _Scheduler()
 
+    def nthreads(self):
+        return {"tcp://a:1": 2, "tcp://b:1": 1}
+
 
 def test_a_dask_clusters_overhead_is_measured_on_it_once(monkeypatch):
     """The round trip of a task that does nothing, measured the first time a sweep meets the
@@ -172,8 +175,10 @@ def test_a_dask_clusters_overhead_is_measured_on_it_once(monkeypatch):
         assert 0 < first < 0.5
         assert charts.task_overhead(dask) == first and _DaskLike.tasks == 8
         assert charts._OVERHEADS == {_Scheduler.address: first}
+        assert charts.executor_workers(dask) == 3  # the cluster's threads
     with ThreadPoolExecutor(1) as pool:
         assert charts.task_overhead(pool) == charts.TASK_OVERHEAD["default"]
+        assert charts.executor_workers(pool) == 1
 
 
 @kernels

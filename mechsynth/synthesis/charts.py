@@ -823,13 +823,15 @@ def _joined(blocks) -> _BlockResult | None:
     )
 
 
-#: doubles in a chunk's block of kinematics on the compiled kernels (32 MiB): per chunk the
-#: sweep pays about 1 ms of Python (building the batch, the measures' calls); on the kernels a
-#: chunk of 2**16 design-angle evaluations (182 designs at 360 angles) is itself only 1-2 ms, so
-#: a 1e6-design slider-crank chart took 2.0 x a hand-written loop, and 1.05 x with chunks of
-#: 2**22 / 8 rows (1,456 designs; bench_sweep_scaling.py). The numpy model keeps 2**16
-#: evaluations per chunk: its dozens of temporaries stay in the cache.
-KERNEL_BLOCK = 2**22
+#: doubles in a chunk's block of kinematics on the compiled kernels (128 MiB): per chunk the
+#: sweep pays about 0.5 ms of Python (building the batch, the design functions, the measures'
+#: calls), the same for any chunk size; on the kernels a chunk of 2**16 design-angle
+#: evaluations (182 designs at 360 angles) is itself only 1-2 ms, so a 1e6-design slider-crank
+#: chart took 2.0 x a hand-written loop. Blocks of 2**22, 2**23 and 2**24 doubles (1,456, 2,912
+#: and 5,825 slider-cranks at 360 angles) gave 1.31, 1.23 and 1.16 x on a 600 x 600 chart (the
+#: best of five runs each, interleaved, load average 12; bench_sweep_scaling.py for the sizes).
+#: The numpy model keeps 2**16 evaluations per chunk: its dozens of temporaries stay in cache.
+KERNEL_BLOCK = 2**24
 MODEL_CHUNK = 2**16
 
 #: seconds an executor spends per task beyond its work (send, schedule, receive), measured on
@@ -872,7 +874,8 @@ def _kernel_rows(spec) -> int | None:
 def _chunks_per_task(executor, spec, rows, n_chunks) -> int:
     """Chunks one executor task evaluates: enough that the executor's per-task overhead
     (:func:`task_overhead`) is at most :data:`TASK_OVERHEAD_SHARE` of the task's work
-    (:data:`EVALUATION_COST`), while leaving at least 8 tasks to share among the workers."""
+    (:data:`EVALUATION_COST`), while leaving two tasks per worker (:func:`executor_workers`)
+    to share among them (a chart too small for that overhead: two tasks per worker)."""
     overhead = task_overhead(executor)
     if rows is None:
         cost = EVALUATION_COST["model"]
@@ -880,7 +883,19 @@ def _chunks_per_task(executor, spec, rows, n_chunks) -> int:
         cost = EVALUATION_COST["linkage kernel" if rows != 8 else "named kernel"]
     work = spec.chunk * spec.phi.size * cost  # seconds per chunk
     want = int(np.ceil(overhead / TASK_OVERHEAD_SHARE / max(work, 1e-12)))
-    return int(max(1, min(want, n_chunks // 8)))
+    return int(max(1, min(want, n_chunks // (2 * executor_workers(executor)))))
+
+
+def executor_workers(executor) -> int:
+    """Tasks ``executor`` runs at once: a Dask cluster's worker threads (asked of its
+    scheduler), a pool's workers, else 4."""
+    client = getattr(executor, "_client", None)
+    if _is_dask(executor) and client is not None:
+        try:
+            return max(1, sum(client.nthreads().values()))
+        except Exception:  # noqa: BLE001 - a scheduler that does not answer: the default
+            return 4
+    return max(1, int(getattr(executor, "_max_workers", 4) or 4))
 
 
 _OVERHEADS: dict = {}  # a Dask cluster's measured per-task overhead, by scheduler address
@@ -1050,7 +1065,7 @@ def sweep(
     angles : crank angles per cycle (count of equal steps, or an array in rad).
     speed : crank speed (rad/s) for velocities and accelerations; None gives analogs.
     chunk : designs per batch (default: on the compiled kernels, a block of
-        :data:`KERNEL_BLOCK` doubles of their outputs -- 1,456 slider-cranks at 360 angles --
+        :data:`KERNEL_BLOCK` doubles of their outputs -- 5,825 slider-cranks at 360 angles --
         which makes the Python cost per chunk small beside its work; on the numpy model,
         :data:`MODEL_CHUNK` design-angle points, which keep its temporaries in cache).
     progress : show a tqdm bar over the chunks (only on a terminal).
@@ -1072,7 +1087,8 @@ def sweep(
         ``ProcessPoolExecutor()``, or ``dask.distributed.Client(address).get_executor()`` for
         a cluster); each task evaluates a run of consecutive chunks where it runs -- enough
         that the executor's per-task overhead (:func:`task_overhead`: a Dask cluster's
-        measured on it once) is at most 5 % of the task's work, at least 8 tasks -- and
+        measured on it once) is at most 5 % of the task's work, at least two tasks per
+        worker -- and
         returns only their measures, feasibility and parameters. A Linkage's kernel is built
         by this process, in the background, into the disk cache; a task loads it from there
         when it is there and otherwise evaluates on the model (workers never compile it:
