@@ -420,6 +420,10 @@ def _curve(motion):
     return np.asarray(c.x, dtype=float), np.asarray(c.y, dtype=float)
 
 
+def _phi(motion):
+    return np.asarray(motion.phi, dtype=float).reshape(-1)
+
+
 def _per_design(motion, fn):
     x, y = _curve(motion)
     phi = np.asarray(motion.phi, dtype=float).reshape(-1)
@@ -444,7 +448,8 @@ class DwellDuration(Measure):
 
     def from_motion(self, mechanism, motion):
         tol = self.tolerance * float(mechanism.rod)
-        return _per_design(motion, lambda p, x, y: dwell_window(p, x, y, tol).dwell)
+        x, y = _curve(motion)
+        return dwell_windows(_phi(motion), x, y, tol)["dwell"]
 
 
 class DwellStroke(Measure):
@@ -455,13 +460,9 @@ class DwellStroke(Measure):
         self.tolerance, self.name = float(tolerance), name
 
     def from_motion(self, mechanism, motion):
-        tol = self.tolerance * float(mechanism.rod)
         rod = float(mechanism.rod)
-
-        def fn(p, x, y):
-            return relative_stroke(x, y, dwell_window(p, x, y, tol).xi, rod)
-
-        return _per_design(motion, fn)
+        x, y = _curve(motion)
+        return dwell_metrics(_phi(motion), x, y, self.tolerance * rod, rod)["S_max"]
 
 
 class DwellDeviation(Measure):
