@@ -457,6 +457,10 @@ def test_the_page_object_searches_its_linkage_and_runs_the_min_max(page):
         page.poll()
     assert not syn.fn_minmax.disabled and syn.src_err_before.data["y"] == []
     start = syn._fg
+    syn.start_minmax()
+    syn.cancel_minmax()  # at once: the process ends, reaped, the button back
+    assert not syn._mm_run.running and "min-max cancelled" in syn.fn_cert.object
+    assert not syn.fn_minmax.disabled and syn._fg is start
     syn.fn_text.value = "x**2"  # edited after: the min-max is of the generator shown
     syn.start_minmax()
     assert syn._mm_run.running and syn.fn_minmax.disabled and not syn.fn_mm_cancel.disabled

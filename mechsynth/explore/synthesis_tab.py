@@ -307,7 +307,7 @@ class SynthesisTab:
                 "the page's linkage: a point of it": "linkage",
             },
             value="four-bar",
-            width=260,
+            width=240,
         )
         self.path_mech.param.watch(lambda e: app._later(self._path_options), "value")
         self.timing = _widget(
@@ -319,7 +319,7 @@ class SynthesisTab:
                 "shape only: a closed path's shape, placed anywhere": "shape",
             },
             value="free",
-            width=330,
+            width=300,
         )
         self.timing.param.watch(lambda e: app._later(self._path_options), "value")
         self.path_angles = _widget(
@@ -330,7 +330,8 @@ class SynthesisTab:
             max_width=600,
             sizing_mode="stretch_width",
         )
-        self.path_even = _widget(pn.widgets.Button, "Evenly spaced angles", width=170)
+        self.path_even = _widget(pn.widgets.Button, "Evenly spaced angles", width=170,
+                                 align="end")  # fmt: skip
         self.path_even.on_click(lambda e: app._later(self.even_angles))
         self.path_trace = _widget(pn.widgets.Select, "Point to follow", options=[], width=150)
         self.path_vary = _widget(
@@ -341,13 +342,14 @@ class SynthesisTab:
             pn.widgets.TextInput, "Range of each varied dimension, %", value="30", width=220
         )
         self.path_from_curve = _widget(
-            pn.widgets.Button, "Six points of the followed point's path", width=260
+            pn.widgets.Button, "Six points of the followed point's path", width=260, align="end"
         )
         self.path_from_curve.on_click(lambda e: app._later(self.points_from_linkage))
-        self.path_angles_row = pn.FlexBox(self.path_angles, self.path_even, visible=False)
+        self.path_angles_row = pn.FlexBox(self.path_angles, self.path_even, visible=False,
+                                          align_items="flex-end")  # fmt: skip
         self.path_linkage_row = pn.FlexBox(
             self.path_trace, self.path_spread, self.path_vary, self.path_from_curve,
-            visible=False,
+            visible=False, align_items="flex-end",
         )  # fmt: skip
         self.undo_move = _widget(pn.widgets.Button, "Undo the target move", width=180,
                                  disabled=True)  # fmt: skip
@@ -426,7 +428,9 @@ class SynthesisTab:
                           legend_label="true output - ideal output")  # fmt: skip
         self.err_fig.scatter("x", "y", source=self.src_prec, size=8, color="#0072B2",
                              legend_label="precision points")  # fmt: skip
-        self.err_fig.legend.location = "top_left"
+        self.err_fig.legend.location = "top_center"
+        self.err_fig.legend.orientation = "horizontal"
+        self.err_fig.y_range.range_padding = 0.4  # room above the curves for the legend
         self.err_fig.legend.label_text_font_size = "10px"
         self.fn_load = _widget(
             pn.widgets.Button, "Load the function generator", width=220, disabled=True
@@ -475,11 +479,10 @@ class SynthesisTab:
         path = pn.Column(
             help_,
             self.points_input,
-            self.undo_move,
             pn.FlexBox(self.path_mech, self.timing, self.path_mu, self.path_starts),
             self.path_angles_row,
             self.path_linkage_row,
-            pn.Row(self.path_button, self.path_cancel, self.path_progress),
+            pn.FlexBox(self.path_button, self.path_cancel, self.undo_move, self.path_progress),
             self.path_msg,
             self.path_table,
             pn.Row(self.path_pick, self.path_load),
@@ -1120,13 +1123,9 @@ class SynthesisTab:
         self.src_err.data = dict(x=x.tolist(), y=err.tolist())
         before = [] if fg.start_error is None else np.degrees(fg.start_error).tolist()
         self.src_err_before.data = dict(x=x.tolist() if before else [], y=before)
-        # the precision points on the error curve: where the design meets f exactly (after
-        # the min-max stage they no longer are)
-        self.src_prec.data = dict(
-            x=px.tolist(),
-            y=([0.0] * len(px) if fg.start_error is None
-               else np.interp(px, x, err).tolist()),
-        )  # fmt: skip
+        # where the (start) design meets f exactly: on the zero of the precision-point
+        # design's curve (the dashed one after the min-max stage)
+        self.src_prec.data = dict(x=px.tolist(), y=[0.0] * len(px))
         self.err_fig.xaxis.axis_label = xlabel
         self.err_fig.title.text = (
             f"structural error ({fg.method}): largest {math.degrees(fg.max_error):.4g} deg"
