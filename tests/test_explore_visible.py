@@ -373,6 +373,30 @@ SCREEN = """(name) => { const d = Bokeh.documents[0], f = d.get_model_by_name('d
           G.x[i], G.y[i]]; }"""
 
 
+# the drawing's place on the screen, its ranges and the fixed pivots it shows
+VIEW = """() => { const d = Bokeh.documents[0], f = d.get_model_by_name('drawing');
+  const r = Bokeh.index.find_one(f).canvas_view.el.getBoundingClientRect();
+  const G = d.get_model_by_name('ground').data_source.data;
+  return [r.left, r.top, r.width, r.height, f.x_range.start, f.x_range.end, f.y_range.start,
+          f.y_range.end, G.name.join()]; }"""
+
+
+def _settled(page, name):
+    """Wait until the drawing shows the fixed pivot ``name`` and has not moved for 0.4 s."""
+    page.wait_for_function(
+        "(n) => Bokeh.documents[0].get_model_by_name('ground').data_source.data.name"
+        ".includes(n)", arg=name, timeout=60_000,
+    )  # fmt: skip
+    last = None
+    for _ in range(100):
+        now = page.evaluate(VIEW)
+        if now == last:
+            return
+        last = now
+        page.wait_for_timeout(400)
+    raise AssertionError(f"the drawing did not settle: {last}")
+
+
 def _drag(page, name, dx):
     x, y, _, _ = page.evaluate(SCREEN, name)
     page.mouse.click(x, y)
@@ -388,18 +412,14 @@ def test_dragging_a_fixed_pivot_moves_it_or_snaps_back_saying_why(page):
 
     _select(page, "Mechanism", "Impact machine (paper 001, ms.six_link)")
     expect(page.get_by_label("D_x, mm", exact=True)).to_have_value("80", timeout=30_000)
-    page.wait_for_timeout(1000)
     moved_js = "() => Bokeh.documents[0].get_model_by_name('ground').data_source.data.x[1] < 80"
-    # a few pixels: the six-link still assembles. The first drag right after the six-link is
-    # drawn is sometimes not taken by the browser's drag tool (2 runs in 4, also before the
-    # joints joined the tool): a user drags again, and so does the test, once.
+    # a few pixels: the six-link still assembles. The press must land on the pivot: the
+    # drawing shows the six-link's pivots and has stopped moving (the view fitted to the new
+    # mechanism, the page laid out again around its dimension rows); a press read from the
+    # view before it settled missed the pivot, and the drag was not taken
+    _settled(page, "D")
     _drag(page, "D", -6)
-    try:
-        page.wait_for_function(moved_js, timeout=10_000)
-    except Exception:  # playwright's TimeoutError
-        page.wait_for_timeout(1000)
-        _drag(page, "D", -6)
-        page.wait_for_function(moved_js, timeout=20_000)
+    page.wait_for_function(moved_js, timeout=20_000)
     page.wait_for_timeout(800)
     moved = page.evaluate(SCREEN, "D")[2]
     assert float(page.get_by_label("D_x, mm", exact=True).input_value()) == pytest.approx(

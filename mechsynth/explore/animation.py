@@ -113,6 +113,11 @@ def frames(state: State, design, n: int = FRAMES, trace=()) -> tuple[dict, dict]
         if sk.joints is not None
         else tuple(dict.fromkeys(p for b in sk.bars for p in b.points))
     )
+    if state.kind.file_data is None:  # a built-in's points that drag (the horsehead) too
+        from .editor import DRAGGABLE
+
+        more = [p for p in DRAGGABLE.get(state.kind.key, {}) if p in sk.points]
+        joints = tuple(dict.fromkeys((*joints, *more)))
     meta = {
         "n": n,
         "bars": [

@@ -68,7 +68,9 @@ _POOL = ThreadPoolExecutor(max_workers=2, thread_name_prefix="mechsynth-explore"
 _WARM: dict[str, object] = {}  # kind key -> the future of its warm-up sweep (one per process)
 _WARM_LOCK = threading.Lock()
 CHART_ANGLES = 180  # crank angles per design in a chart sweep
-MIN_ROWS = 16  # dimension rows made with the page (the six-link has 14 dimensions)
+# dimension rows made with the page beyond its mechanism's (rows are added when a mechanism
+# needs more; every row made costs the page's start some 10 models)
+MIN_ROWS = 0
 
 
 def warm(state: State):
@@ -147,11 +149,50 @@ class Explorer:
         self._targets = None  # target poses (SI rows x, y, angle) shown on the drawing
         self._synth = None  # the running motion-generation search (a future)
         self._candidates = []
+        self._synthesis = None  # the Synthesis tab's object, made when first needed
+        self._tab_pending = {}  # tab index -> (its placeholder, what makes its content)
         self._build_widgets(source)
-        self.synthesis = SynthesisTab(self)  # path and function generation, clicked targets
         self.editing = Editing(self)  # joints dragged, linkages built, undo, the URL
         self._rebuild_dims()
         self._refresh(None)
+
+    @property
+    def synthesis(self) -> SynthesisTab:
+        """Path and function generation, clicked targets (made when first opened or used:
+        its canvas and widgets are not part of the page's start)."""
+        if self._synthesis is None:
+            self._synthesis = SynthesisTab(self)
+        return self._synthesis
+
+    @property
+    def chart_fig(self):
+        """The chart's figure (made when first needed: the Chart tab opened, or a chart)."""
+        if self._chart_fig is None:
+            tap = TapTool(mode="replace")
+            fig = figure(
+                height=500, min_width=300, max_width=760, sizing_mode="stretch_width",
+                tools=[tap, "pan", "wheel_zoom", "reset", "save"],
+                title="click a cell to load that design",
+            )  # fmt: skip
+            fig.toolbar.active_scroll = None
+            cells = fig.rect(
+                "x", "y", width="w", height="h", source=self.chart_src,
+                fill_color={"field": "v", "transform": self.mapper}, line_color=None,
+                fill_alpha="ok", name="cells", nonselection_fill_alpha="ok",
+                selection_line_color="black",
+            )  # fmt: skip
+            fig.add_layout(self.colour_bar, "right")
+            fig.add_tools(
+                HoverTool(
+                    tooltips=[("x", "@x"), ("y", "@y"), ("value", "@raw")], renderers=[cells]
+                )
+            )
+            fig.scatter(
+                "x", "y", source=self.chart_marker, marker="cross", size=18, line_color="red",
+                line_width=3,
+            )  # fmt: skip
+            self._chart_fig = fig
+        return self._chart_fig
 
     # ------------------------------------------------------------------ widgets
     def _build_widgets(self, source):
@@ -278,7 +319,7 @@ class Explorer:
                      name="velocity")  # fmt: skip
         f.multi_line("xs", "ys", source=self.src_acc, line_color="#CC79A7", line_width=2.5,
                      name="acceleration")  # fmt: skip
-        f.scatter(
+        self.joints_renderer = f.scatter(
             "x", "y", source=self.src_joints, size=9, fill_color="white", line_color="black",
             line_width=2, name="joints",
         )  # fmt: skip
@@ -310,30 +351,18 @@ class Explorer:
             text_color="#333333", name="input-overlay",
         )  # fmt: skip
         self.fig.add_layout(self.overlay)
-        self.curve_figs, self.curve_srcs, self.spans = [], [], []
-        for title in ("position", "velocity", "acceleration", "angles"):
-            cf = figure(
-                width=300, height=220, title=title, tools="pan,wheel_zoom,reset,save",
-                x_axis_label="crank angle, deg",
-            )  # fmt: skip
-            cf.toolbar.active_scroll = None
-            src = ColumnDataSource(dict(x=[], y=[], y2=[]))
-            cf.line(
-                "x", "y", source=src, line_width=2, color=COLORS[0],
-                legend_label="pressure" if title == "angles" else title,
-            )  # fmt: skip
-            if title == "angles":
-                cf.line("x", "y2", source=src, line_width=2, color=COLORS[1],
-                        legend_label="transmission")  # fmt: skip
-                cf.legend.location = "top_left"
-                cf.legend.label_text_font_size = "9px"
-            else:
-                cf.legend.visible = False
-            span = Span(location=0, dimension="height", line_color="#D55E00", line_width=1.5)
-            cf.add_layout(span)
-            self.curve_figs.append(cf)
-            self.curve_srcs.append(src)
-            self.spans.append(span)
+        # the curves' figures are made after the page's first document (_make_curve_figs);
+        # their data, markers and labels are kept here until then
+        self.curve_figs = []
+        self.curve_srcs = [ColumnDataSource(dict(x=[], y=[], y2=[])) for _ in range(4)]
+        self.spans = [
+            Span(location=0, dimension="height", line_color="#D55E00", line_width=1.5)
+            for _ in range(4)
+        ]
+        self._curve_labels = [
+            dict(title=t, x="crank angle, deg", y="", xr=(0, 360))
+            for t in ("position", "velocity", "acceleration", "angles")
+        ]
         args = dict(
             sources=dict(
                 meta=self.src_meta, frames=self.src_frames, bars=self.src_bars,
@@ -343,22 +372,19 @@ class Explorer:
             ),
             fig=self.fig, frame=self.frame, play=self.play, period_s=self.period,
             vectors=self.vectors, spans=self.spans, label=self.input_label, overlay=self.overlay,
+            back=self.back, fwd=self.fwd, reverse=self.reverse,
         )  # fmt: skip
-
-        def js(what):
-            # the accessible names are given where the page's widgets may have changed
-            a11y = A11Y_JS if what in ("meta", "resize") else ""
-            return CustomJS(args=args, code=f"const what = {what!r};\n" + PLAYER_JS + a11y)
-
-        self.src_meta.js_on_change("data", js("meta"))
-        self.frame.js_on_change("value", js("frame"))
-        self.play.js_on_event("button_click", js("play"))
-        self.back.js_on_event("button_click", js("back"))
-        self.fwd.js_on_event("button_click", js("fwd"))
-        self.reverse.js_on_event("button_click", js("reverse"))
-        self.vectors.js_on_change("active", js("vectors"))
-        self.fig.js_on_change("inner_width", js("resize"))
-        self.fig.js_on_change("inner_height", js("resize"))
+        # one script for every trigger (the page sends its code once), told which called it by
+        # the model (an event's origin); the accessible names are given where the page's
+        # widgets may have changed
+        player = CustomJS(args=args, code=_WHAT_JS + PLAYER_JS + _A11Y_WHEN + A11Y_JS + "}\n")
+        self.src_meta.js_on_change("data", player)
+        self.frame.js_on_change("value", player)
+        for button in (self.play, self.back, self.fwd, self.reverse):
+            button.js_on_event("button_click", player)
+        self.vectors.js_on_change("active", player)
+        self.fig.js_on_change("inner_width", player)
+        self.fig.js_on_change("inner_height", player)
         self.frame.on_change("value", lambda attr, old, new: self._on_frame(new))
         self.trace_select = _widget(
             pn.widgets.MultiChoice, "Trace the path of", options=[], value=[], width=300
@@ -422,33 +448,14 @@ class Explorer:
         self.chart_progress = pn.indicators.Progress(
             value=0, max=1, width=200, active=False, visible=False
         )
-        self.chart_fig = figure(
-            height=500, min_width=300, max_width=760, sizing_mode="stretch_width",
-            tools="tap,pan,wheel_zoom,reset,save", title="click a cell to load that design",
-        )  # fmt: skip
-        self.chart_fig.toolbar.active_scroll = None
         self.chart_src = ColumnDataSource(
             dict(x=[], y=[], v=[], raw=[], ok=[], i=[], j=[], w=[], h=[])
         )
         self.mapper = LinearColorMapper(palette="Viridis256", nan_color="#eeeeee")
-        cells = self.chart_fig.rect(
-            "x", "y", width="w", height="h", source=self.chart_src,
-            fill_color={"field": "v", "transform": self.mapper}, line_color=None,
-            fill_alpha="ok", name="cells", nonselection_fill_alpha="ok",
-            selection_line_color="black",
-        )  # fmt: skip
         self.colour_bar = ColorBar(color_mapper=self.mapper, title="", width=12)
-        self.chart_fig.add_layout(self.colour_bar, "right")
-        self.chart_fig.add_tools(
-            HoverTool(tooltips=[("x", "@x"), ("y", "@y"), ("value", "@raw")], renderers=[cells])
-        )
         self.chart_marker = ColumnDataSource(dict(x=[], y=[]))
-        self.chart_fig.scatter(
-            "x", "y", source=self.chart_marker, marker="cross", size=18, line_color="red",
-            line_width=3,
-        )  # fmt: skip
-        self.chart_fig.select_one(TapTool).mode = "replace"
         self.chart_src.selected.on_change("indices", self._on_cell)
+        self._chart_fig = None  # made with the Chart tab (see chart_fig)
 
         # synthesis: motion generation through target poses
         self.src_targets = ColumnDataSource(dict(x=[], y=[], xs=[], ys=[]))
@@ -540,12 +547,13 @@ class Explorer:
         self._building = True
         try:
             dims = st.kind.dims
-            # every row the page may need is made before the page is first sent: Panel does
-            # not pass rows added to a served layout on to the browser
-            want = max(len(dims), MIN_ROWS) if not self._rows else len(dims)
-            while len(self._rows) < want:
+            while len(self._rows) < max(len(dims), MIN_ROWS):
                 self._rows.append(self._dim_row(len(self._rows)))
-                self.dims_col.append(self._rows[-1]["layout"])
+            # the mechanism's rows only, as one change of the column's children (rows hidden
+            # widget by widget made the browser lay the page out again for each widget)
+            shown = [r["layout"] for r in self._rows[: len(dims)]]
+            if list(self.dims_col.objects) != shown:
+                self.dims_col.objects = shown
             self.dim_widgets, self.dim_fields = {}, {}
             self._field_msgs = {}
             self._row_dims = [d.name for d in dims] + [None] * (len(self._rows) - len(dims))
@@ -571,15 +579,8 @@ class Explorer:
                 _set_label(hi_in, f"{d.name} upper bound")
                 hi_in.value = _text(st.shown(vhi, d.unit))
                 msg.param.update(object="", visible=False)
-                for w in (slider, field, vary, lo_in, hi_in):
-                    w.visible = True
                 self.dim_widgets[d.name] = (slider, vary, lo_in, hi_in, msg)
                 self.dim_fields[d.name] = field
-            for row_ in self._rows[len(dims):]:
-                for key in ("slider", "field", "vary", "lo", "hi", "msg"):
-                    row_[key].visible = False
-                for key in ("slider", "field", "vary", "lo", "hi"):
-                    _set_label(row_[key], "unused")  # no hidden field answers to a name
             label, speed = st.speed_field()
             _set_label(self.speed_input, label)
             _set_label(
@@ -632,10 +633,9 @@ class Explorer:
         page on the document's next tick, with its lock held (a widget's callback may run
         without it, and a Bokeh model changed there raises in the server); at once
         elsewhere (tests drive the page object from Python)."""
-        doc = pn.state.curdoc
-        if doc is None or getattr(doc, "session_context", None) is None:
+        if not _served():
             return fn(*args)
-        doc.add_next_tick_callback(lambda: fn(*args))
+        pn.state.curdoc.add_next_tick_callback(lambda: fn(*args))
         return None
 
     def _watch(self, widget, fn):
@@ -723,7 +723,8 @@ class Explorer:
         self.state.units = event.new
         self._rebuild_dims()
         self._refresh(None)
-        self.synthesis.units_changed()
+        if self._synthesis is not None:
+            self._synthesis.units_changed()
 
     def _on_speed(self, event):
         if self._building:
@@ -800,6 +801,7 @@ class Explorer:
             self._field_msgs.pop(f"bound:{name}", None)
             st.vary.pop(name, None)
         self._show_bound_messages()
+        self.editing.show_url()
 
     def _show_bound_messages(self) -> bool:
         bad = self.state.bound_messages()
@@ -825,6 +827,7 @@ class Explorer:
         st.method = self.method.value
         st.starts = int(self.starts.value or 1)
         self._show_checks()
+        self.editing.show_url()
 
     def _on_frame(self, k):
         self._draw_frame(int(k))
@@ -946,10 +949,22 @@ class Explorer:
         elif st.kind.key == "four-bar" and name == "O2":
             x1, y1 = shown["x"][0] * f, shown["y"][0] * f
             st.values["ground"] = math.hypot(x - x1, y - y1)
+        elif st.kind.key == "beam-pump" and name == "O2":
+            # the centre bearing: I its horizontal distance from the crankshaft O1, H its
+            # height above the base (the crankshaft G above it)
+            x1, y1 = shown["x"][0] * f, shown["y"][0] * f
+            st.values["I"] = x - x1
+            st.values["H"] = y - y1 + st.values["G"]
         else:
             self._snap_back(f"{name} is the frame's origin of the {st.kind.title}: it stays")
             return
         design, message = st.check_design()
+        if message is None and st.kind.key == "beam-pump":
+            # a unit whose geometry I and H do not give so (a file's Mark II): not moved
+            px, py = design.sketch(np.array([0.0])).points[name]
+            miss = math.hypot(float(np.ravel(px)[0]) - x, float(np.ravel(py)[0]) - y)
+            if miss > 1e-9 * max(abs(x), abs(y), 1.0):
+                message = f"I and H do not place {name} of this unit there: edit their fields"
         if message is not None:
             st.values = before
             self._snap_back(f"cannot move {name} there: {message}")
@@ -1016,10 +1031,11 @@ class Explorer:
         else:
             x = np.asarray(c["angle"], float).tolist()
             xlabel = "crank angle, deg"
-        for key, unit, cf, src in zip(
+        xr = (x[0], x[-1]) if slider_in else (0, 360)
+        for key, unit, lab, src in zip(
             ("position", "velocity", "acceleration"),
             (pos_u, vel_u, acc_u),
-            self.curve_figs,
+            self._curve_labels,
             self.curve_srcs,
         ):
             y = np.asarray(c[key], dtype=float)
@@ -1034,8 +1050,7 @@ class Explorer:
                 except (KeyError, ValueError, MechanismError):
                     shown = unit
             src.data = dict(x=x, y=y.tolist(), y2=[0.0] * y.size)
-            cf.title.text = f"{c['output']} {key}"
-            cf.yaxis.axis_label = f"{key}, {shown}"
+            lab.update(title=f"{c['output']} {key}", y=f"{key}, {shown}", x=xlabel, xr=xr)
         p, t = c["pressure"], c["transmission"]
         n = len(x)
         self.curve_srcs[3].data = dict(
@@ -1043,10 +1058,41 @@ class Explorer:
             y=(np.degrees(p).tolist() if p is not None else [np.nan] * n),
             y2=(np.degrees(t).tolist() if t is not None else [np.nan] * n),
         )
-        self.curve_figs[3].yaxis.axis_label = "pressure, transmission angle, deg"
-        for cf in self.curve_figs:
-            cf.xaxis.axis_label = xlabel
-            cf.x_range.start, cf.x_range.end = (x[0], x[-1]) if slider_in else (0, 360)
+        self._curve_labels[3].update(y="pressure, transmission angle, deg", x=xlabel, xr=xr)
+        self._label_curves()
+
+    def _make_curve_figs(self) -> list:
+        """The four curves' figures (made once)."""
+        if not self.curve_figs:
+            for i, (src, span) in enumerate(zip(self.curve_srcs, self.spans)):
+                cf = figure(
+                    width=300, height=220, tools="pan,wheel_zoom,reset,save",
+                    x_range=Range1d(0, 360),
+                )  # fmt: skip
+                cf.toolbar.active_scroll = None
+                angles = i == 3
+                cf.line(
+                    "x", "y", source=src, line_width=2, color=COLORS[0],
+                    legend_label="pressure" if angles else "curve",
+                )  # fmt: skip
+                if angles:
+                    cf.line("x", "y2", source=src, line_width=2, color=COLORS[1],
+                            legend_label="transmission")  # fmt: skip
+                    cf.legend.location = "top_left"
+                    cf.legend.label_text_font_size = "9px"
+                else:
+                    cf.legend.visible = False
+                cf.add_layout(span)
+                self.curve_figs.append(cf)
+            self._label_curves()
+        return self.curve_figs
+
+    def _label_curves(self):
+        for cf, lab in zip(self.curve_figs, self._curve_labels):
+            cf.title.text = lab["title"]
+            cf.xaxis.axis_label = lab["x"]
+            cf.yaxis.axis_label = lab["y"]
+            cf.x_range.update(start=lab["xr"][0], end=lab["xr"][1])
 
     def _fmt(self, value, unit):
         if unit == "rad":
@@ -1148,7 +1194,8 @@ class Explorer:
         if self._proc is not None:
             self._proc.terminate()
             self._end_solve()
-        self.synthesis.close()
+        if self._synthesis is not None:
+            self._synthesis.close()
 
     def _end_solve(self):
         proc, self._proc = self._proc, None
@@ -1215,7 +1262,8 @@ class Explorer:
                 )
         self._poll_sweep()
         self._poll_synthesis()
-        self.synthesis.poll()
+        if self._synthesis is not None:
+            self._synthesis.poll()
 
     def _objective_unit(self) -> str:
         from ..synthesis.problem_file import parse_measure
@@ -1563,16 +1611,16 @@ class Explorer:
         meta = self.frame_meta
         k = int(self.frame.value) % meta["n"]
         at = 360.0 * k / meta["n"] if meta["periodic"] else self.frame_cols["input"][k]
-        for cf, src, ax in zip(self.curve_figs, self.curve_srcs, axes):
+        for i, (lab, src, ax) in enumerate(zip(self._curve_labels, self.curve_srcs, axes)):
             d = src.data
-            ax.plot(d["x"], d["y"], label="pressure" if cf is self.curve_figs[3] else None)
-            if cf is self.curve_figs[3]:
+            ax.plot(d["x"], d["y"], label="pressure" if i == 3 else None)
+            if i == 3:
                 ax.plot(d["x"], d["y2"], label="transmission")
                 ax.legend(fontsize=8)
             ax.axvline(at, color="#D55E00", lw=1)
-            ax.set_title(cf.title.text, fontsize=10)
-            ax.set_xlabel(cf.xaxis[0].axis_label)
-            ax.set_ylabel(cf.yaxis[0].axis_label, fontsize=9)
+            ax.set_title(lab["title"], fontsize=10)
+            ax.set_xlabel(lab["x"])
+            ax.set_ylabel(lab["y"], fontsize=9)
             ax.set_xlim(d["x"][0], d["x"][-1])
         fig.tight_layout()
         return self._save("curves.png", _png(fig))
@@ -1609,8 +1657,11 @@ class Explorer:
             css_classes=["sidebar"],
             styles={"max-height": "calc(100vh - 16px)", "overflow-y": "auto"},
         )
-        player = pn.pane.Bokeh(
+        # the drawing and its player in one pane: Panel walks each pane's models (their
+        # scripts reference each other, so two panes walked the drawing twice)
+        drawing = pn.pane.Bokeh(
             column(
+                self.fig,
                 row(self.play, self.back, self.fwd, self.reverse, sizing_mode="stretch_width"),
                 row(self.frame, sizing_mode="stretch_width"),
                 row(self.input_label, self.period, sizing_mode="stretch_width"),
@@ -1619,10 +1670,13 @@ class Explorer:
             ),
             sizing_mode="stretch_width",
         )
+        # the editing controls and the curves follow the page's first document (sent once the
+        # browser has drawn the mechanism): the page is ready sooner
+        editing = pn.Column(sizing_mode="stretch_width")
+        curves = pn.Column(sizing_mode="stretch_width")
         design_tab = pn.Column(
-            pn.pane.Bokeh(self.fig, sizing_mode="stretch_width"),
-            player,
-            self.editing.panel(),
+            drawing,
+            editing,
             pn.FlexBox(
                 self.trace_select,
                 pn.Column(
@@ -1631,12 +1685,56 @@ class Explorer:
                     self.checks_pane,
                 ),
             ),
-            # one under the other: a row of them would widen the page past a phone's screen,
-            # and a wrapping box draws them with no room inside their frames
-            pn.Column(*[pn.pane.Bokeh(cf) for cf in self.curve_figs], css_classes=["curves"]),
+            curves,
             sizing_mode="stretch_width",
         )
-        problem_tab = pn.Column(
+
+        def fill():
+            editing.objects = [self.editing.panel()]
+            # one under the other: a row of them would widen the page past a phone's screen,
+            # and a wrapping box draws them with no room inside their frames
+            curves.objects = [
+                pn.Column(
+                    *[pn.pane.Bokeh(cf) for cf in self._make_curve_figs()],
+                    css_classes=["curves"],
+                )
+            ]
+
+        if _served():
+            pn.state.onload(lambda: self._later(fill))
+        else:
+            fill()
+        # the other tabs are made and sent to the browser when first opened: the page's
+        # start sends the Design tab only (its models are most of the first document)
+        makers = [self._problem_tab, self._chart_tab, self._synthesis_tab, self._export_tab]
+        names = ["Problem", "Chart", "Synthesis", "Export"]
+        tabs = [("Design", design_tab)]
+        self._tab_pending = {}
+        for k, (name, make) in enumerate(zip(names, makers), start=1):
+            holder = pn.Column(sizing_mode="stretch_width")
+            self._tab_pending[k] = (holder, make)
+            tabs.append((name, holder))
+        self.tabs = pn.Tabs(*tabs, dynamic=False, sizing_mode="stretch_width")
+        self.tabs.param.watch(lambda e: self._later(self._open_tab, e.new), "active")
+        if self._synthesis is not None:  # already in use (from Python): its panel now
+            self._open_tab(names.index("Synthesis") + 1)
+        main = pn.Column(
+            self.tabs, sizing_mode="stretch_width", min_width=300, css_classes=["main"]
+        )
+        return pn.FlexBox(
+            sidebar, main, flex_wrap="wrap", sizing_mode="stretch_width",
+            stylesheets=[_LAYOUT_CSS], css_classes=["explorer"],
+        )  # fmt: skip
+
+    def _open_tab(self, k):
+        """Tab ``k`` shown: its content made and sent to the browser the first time."""
+        pending = self._tab_pending.pop(int(k), None)
+        if pending is not None:
+            holder, make = pending
+            holder.objects = [make()]
+
+    def _problem_tab(self):
+        return pn.Column(
             pn.Row(self.sense, self.objective),
             self.constraints,
             pn.Row(self.method, self.starts),
@@ -1649,7 +1747,9 @@ class Explorer:
             self.report,
             sizing_mode="stretch_width",
         )
-        chart_tab = pn.Column(
+
+    def _chart_tab(self):
+        return pn.Column(
             pn.FlexBox(self.chart_x, self.chart_y, self.chart_n, self.chart_button),
             self.chart_measure,
             pn.Row(self.chart_progress),
@@ -1657,7 +1757,9 @@ class Explorer:
             pn.pane.Bokeh(self.chart_fig, sizing_mode="stretch_width"),
             sizing_mode="stretch_width",
         )
-        synth_tab = pn.Column(
+
+    def _synthesis_tab(self):
+        motion = pn.Column(
             pn.pane.HTML(
                 "<b>Motion generation</b>: four-bars and slider-cranks whose coupler passes "
                 "through 2 to 5 poses (<code>ms.motion_generation</code>; 3 poses leave the "
@@ -1670,8 +1772,10 @@ class Explorer:
             pn.Row(self.synth_pick, self.synth_load),
             sizing_mode="stretch_width",
         )
-        synth_tab = self.synthesis.panel(synth_tab)
-        export_tab = pn.Column(
+        return self.synthesis.panel(motion)
+
+    def _export_tab(self):
+        return pn.Column(
             pn.pane.HTML(
                 "The problem file runs with <code>mechsynth optimize FILE</code>; the design "
                 "file with <code>mechsynth animate FILE</code> (and opens here again)."
@@ -1689,22 +1793,16 @@ class Explorer:
             self.export_msg,
             sizing_mode="stretch_width",
         )
-        self.tabs = pn.Tabs(
-            ("Design", design_tab),
-            ("Problem", problem_tab),
-            ("Chart", chart_tab),
-            ("Synthesis", synth_tab),
-            ("Export", export_tab),
-            dynamic=False,
-            sizing_mode="stretch_width",
-        )
-        main = pn.Column(
-            self.tabs, sizing_mode="stretch_width", min_width=300, css_classes=["main"]
-        )
-        return pn.FlexBox(
-            sidebar, main, flex_wrap="wrap", sizing_mode="stretch_width",
-            stylesheets=[_LAYOUT_CSS], css_classes=["explorer"],
-        )  # fmt: skip
+
+
+# which of the player's triggers called it (see PLAYER_JS)
+_WHAT_JS = """const origin = cb_obj && cb_obj.origin ? cb_obj.origin : cb_obj;
+const what = origin === sources.meta ? 'meta' : origin === frame ? 'frame'
+  : origin === play ? 'play' : origin === back ? 'back' : origin === fwd ? 'fwd'
+  : origin === reverse ? 'reverse' : origin === vectors ? 'vectors'
+  : origin === fig ? 'resize' : '';
+"""
+_A11Y_WHEN = "if (what === 'meta' || what === 'resize') {\n"
 
 
 # five poses of a crank-rocker's coupler (examples/motion_poses.csv), in mm and deg
@@ -1739,6 +1837,12 @@ def _file_label(state: State, source: str | None) -> str:
     if source and source not in title:
         return f"{title} from {source}"
     return title if title not in kind_names().values() else f"{title} (from a file)"
+
+
+def _served() -> bool:
+    """Whether the page is being served (else driven from Python, as tests do)."""
+    doc = pn.state.curdoc
+    return doc is not None and getattr(doc, "session_context", None) is not None
 
 
 def _widget(cls, label, **kwargs):
@@ -1812,8 +1916,13 @@ def serve(
     serving, opens the browser unless ``browser`` is False and serves until interrupted
     (``threaded``: returns the server's thread at once, for tests).
     """
+    from bokeh.settings import settings
+
     start = load_file(file, units) if file else State.default(kind or "slider-crank", units)
     port = int(port) or free_port(host)
+    # Bokeh checks every new page's models for a developer's mistakes (some 0.1 s a page);
+    # the page's models are fixed and tested
+    settings.perform_document_validation.set_value(False)
     out = Path(out) if out else None
     source = Path(file).name if file else None
     warm(start)  # the first chart's kernels load while the page is being opened
@@ -1843,15 +1952,14 @@ def serve(
         address=host,
         websocket_origin=origins,
         show=False,
-        start=False,
+        start=bool(threaded),  # a thread of its own runs its loop; else the loop below
         title="mechsynth explore",
         verbose=False,
         threaded=threaded,
     )
     url = f"http://{host}:{port}/"
     info = {"url": url, "host": host, "port": port, "out": str(out) if out else None}
-    if threaded:
-        server.start()
+    if threaded:  # serving in Panel's thread already
         return server, info
     server.start()
     if json_out:

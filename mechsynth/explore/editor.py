@@ -44,8 +44,16 @@ __all__ = [
 DRAGGABLE: dict[str, dict[str, tuple[tuple[str, str | None], ...]]] = {
     "slider-crank": {"A": (("crank", "O"),), "B": (("rod", "A"), ("offset", None))},
     "four-bar": {"A": (("crank", "O1"),), "B": (("coupler", "A"), ("rocker", "O2"))},
-    "beam-pump": {"A": (("R", "O1"),), "B": (("P", "A"), ("C", "O2"))},
-    "dwell": {"A": (("r", "O"),)},
+    # the beam's equalizer bearing B and its horsehead H (on the beam's line through O2)
+    "beam-pump": {"A": (("R", "O1"),), "B": (("P", "A"), ("C", "O2")), "H": (("A", "O2"),)},
+    # paper 003's ratios: B's place scales the whole linkage (rod), C is the coupler point
+    # (k, gamma), G the end of link 5's stem, set by the slot's angle xi
+    "dwell": {
+        "A": (("r", "O"),),
+        "B": (("rod", None),),
+        "C": (("k", None), ("gamma", None)),
+        "G": (("xi", None),),
+    },
 }
 # a linkage group's parameters (by their role in the group) that its point's place defines
 _GROUP_ROLES = {
@@ -172,6 +180,11 @@ def drag_joint(state: State, point: str, xy, phi: float) -> dict[str, float]:
             gtol=1e-14, max_nfev=200,
         )  # fmt: skip
         x0 = fit.x
+    flat = [n for n, x, low in zip(dims, x0, lo) if np.isfinite(low) and x <= 2 * low]
+    if flat:  # the nearest place wants a length of zero (or less): not a design
+        raise MechanismError(
+            f"cannot move {point} there: {', '.join(flat)} would have to be zero or negative"
+        )
     try:
         there = _place(build, dict(values, **dict(zip(dims, x0))), point, phi)
     except (MechanismError, ValueError, ZeroDivisionError) as exc:
@@ -398,6 +411,125 @@ class Draft:
         """The draft without its last step (the same empty draft when it has none)."""
         return replace(self, steps=self.steps[:-1])
 
+    # -------------------------------------------------------------- any step
+    @property
+    def elements(self) -> tuple[str, ...]:
+        """Every step's name in order: its point (an RPR group: its link)."""
+        return tuple(_name(s) for s in self.steps)
+
+    def index(self, element: str) -> int:
+        """The step of ``element`` (a point, or an RPR group's link)."""
+        names = self.elements
+        if element not in names:
+            raise MechanismError(
+                f"{element!r} is not an element of the linkage; its elements: "
+                + (", ".join(names) or "none")
+            )
+        return names.index(element)
+
+    def dependents(self, element: str) -> tuple[str, ...]:
+        """The elements placed from ``element``, directly or through others, in order."""
+        i = self.index(element)
+        gone = {element}
+        out = []
+        for s in self.steps[i + 1 :]:
+            if _uses(s) & gone:
+                gone.add(_name(s))
+                out.append(_name(s))
+        return tuple(out)
+
+    def delete(self, element: str) -> tuple[Draft, tuple[str, ...]]:
+        """The draft without ``element`` and the elements that depend on it, and the names
+        of those dependents (the elements after it that do not use it stay, named as they
+        were)."""
+        self.index(element)
+        deps = self.dependents(element)
+        gone = {element, *deps}
+        steps = tuple(s for s in self.steps if _name(s) not in gone)
+        out = self.output if self.output not in gone else None
+        return replace(self, steps=steps, output=out), deps
+
+    def move(self, element: str, x: float, y: float) -> Draft:
+        """The draft with ``element`` placed at (x, y) (m) at the input's start: a ground
+        point there; a moving point's dimensions (a crank's length and phase, an RRR joint's
+        links and branch, an RRP slider's rod and guide, an attached point's offsets, a
+        driving slider's guide) taken from the earlier points' places, as when it was added.
+        The elements after it keep their dimensions (whether they still assemble is
+        :meth:`check`'s to say)."""
+        i = self.index(element)
+        s = self.steps[i]
+        t = s["type"]
+        if t == "rpr":
+            raise MechanismError(
+                f"{element} (an RPR group) has no place of its own: move its points instead"
+            )
+        _finite((x, y), f"moving {element}")
+        before = replace(self, steps=self.steps[:i])
+        if t == "ground":
+            new = dict(s, xy=[_r6(x), _r6(y)])
+        else:
+            if t == "crank":
+                added = before.crank(s["about"], x, y)
+            elif t == "slider":
+                g = s["guide"]
+                angle = g.get("angle", 0.0)
+                travel = s["travel"]
+                if not isinstance(angle, int | float):
+                    raise MechanismError(f"{element}: its guide's angle is named: edit its field")
+                added = before.slider(x, y, angle, 1.0)
+                new_guide = dict(g, through=added.steps[-1]["guide"]["through"])
+                added = replace(
+                    added, steps=(*added.steps[:-1], dict(s, guide=new_guide, travel=travel))
+                )
+            elif t == "rrr":
+                added = before.rrr(s["first"][0], s["second"][0], x, y)
+            elif t == "rrp":
+                angle = s["guide"].get("angle", 0.0)
+                if not isinstance(angle, int | float):
+                    raise MechanismError(f"{element}: its guide's angle is named: edit its field")
+                added = before.rrp(s["rod"][0], x, y, angle)
+            elif t == "attach":
+                added = before.attach(s["on"][0], s["on"][1], x, y)
+            else:
+                raise MechanismError(f"{element}: a {t} step cannot be moved by a click")
+            new = dict(added.steps[-1], point=element)
+            for key in ("name",):  # a named step keeps its name
+                if key in s:
+                    new[key] = s[key]
+        return replace(self, steps=(*self.steps[:i], new, *self.steps[i + 1 :]))
+
+    def dims_of(self, element: str) -> dict[str, tuple[float, str]]:
+        """The dimensions ``element``'s step holds, by the names :meth:`with_values` takes:
+        ``{name: (SI value, "m" or "rad")}`` (a dimension given by a formula is left out)."""
+        s = self.steps[self.index(element)]
+        t, p = s["type"], s.get("point")
+        pairs: list[tuple[str, Any, str]] = []
+        if t == "ground":
+            pairs += [(f"{p}_x", s["xy"][0], "m"), (f"{p}_y", s["xy"][1], "m")]
+        elif t == "crank":
+            pairs += [(f"{s['about']}{p}", s["length"], "m"), ("phase", s.get("phase", 0.0), "rad")]
+        elif t == "rrr":
+            pairs += [(f"{q}{p}", v, "m") for q, v in (s["first"], s["second"])]
+        elif t == "rrp":
+            pairs.append((f"{s['rod'][0]}{p}", s["rod"][1], "m"))
+        elif t == "attach":
+            pairs += [(f"{p}_{k}", s.get(k, 0.0), "m") for k in ("along", "left")]
+        elif t == "rpr":
+            pairs.append((f"{s['link']}_offset", s.get("offset", 0.0), "m"))
+        if t in ("rrp", "slider"):
+            g = s["guide"]
+            through = g.get("through")
+            if isinstance(through, list) and not all(isinstance(c, str) for c in through):
+                pairs += [(f"{p}_guide_x", through[0], "m"), (f"{p}_guide_y", through[1], "m")]
+            pairs.append((f"{p}_guide_angle", g.get("angle", 0.0), "rad"))
+        out = {}
+        for name, v, unit in pairs:
+            if isinstance(v, dict) and "name" in v and "value" in v:  # a named dimension
+                name, v = str(v["name"]), v["value"]
+            if isinstance(v, int | float) and not isinstance(v, bool):
+                out[name] = (float(v), unit)
+        return out
+
     # -------------------------------------------------------------- the linkage
     def tables(self) -> dict:
         """The linkage-file tables (``[linkage]``, ``[ground]``, ``[[group]]``, SI numbers)."""
@@ -529,16 +661,50 @@ class Draft:
         )
 
 
+def _name(step: dict) -> str:
+    return str(step["link"] if step["type"] == "rpr" else step["point"])
+
+
+def _uses(step: dict) -> set[str]:
+    """The names of the points a step is placed from."""
+    t = step["type"]
+    out: set[str] = set()
+    if t == "crank":
+        out.add(step["about"])
+    elif t == "rrr":
+        out |= {step["first"][0], step["second"][0]}
+    elif t == "rrp":
+        out.add(step["rod"][0])
+    elif t == "attach":
+        out |= set(step["on"])
+    elif t == "rpr":
+        out |= {step["about"], step["through"]}
+    guide = step.get("guide") if t in ("rrp", "slider") else None
+    if isinstance(guide, dict):
+        through = guide.get("through")
+        if isinstance(through, list) and all(isinstance(c, str) for c in through):
+            out |= set(through)  # a guide along a link
+        elif isinstance(through, str):
+            out.add(through)
+    return {str(n) for n in out}
+
+
 def _finite(values, what):
     if not all(isinstance(x, int | float) and math.isfinite(x) for x in values):
         raise MechanismError(f"{what}: the place and dimensions must be numbers, got {values}")
 
 
 # ------------------------------------------------------------------------------ the URL
+#: the optimizers the page offers (its Method menu)
+METHODS = ("ipopt", "slsqp", "de")
+
+
 def to_query(state: State, draft: Draft | None = None) -> str:
-    """The design's state as a URL query: ``mechanism`` (a built-in's key, or ``file`` with the
+    """The page's state as a URL query: ``mechanism`` (a built-in's key, or ``file`` with the
     linkage's tables packed in ``linkage``), ``units``, ``speed`` (SI) and each dimension's SI
-    value by name."""
+    value by name; then the problem (``problem=1``): ``objective``, ``sense``, one
+    ``constraint`` per constraint (as typed), one ``vary=name:lower:upper`` per variable (SI;
+    bounds that are not numbers yet are left out), ``method`` and ``starts``."""
     from urllib.parse import urlencode
 
     k = state.kind
@@ -558,6 +724,14 @@ def to_query(state: State, draft: Draft | None = None) -> str:
     items.append(("units", state.units))
     items.append(("speed", "0" if state.speed is None else repr(float(state.speed))))
     items += [(d.name, repr(float(state.values[d.name]))) for d in k.dims]
+    items += [("problem", "1"), ("objective", state.objective), ("sense", state.sense)]
+    items += [("constraint", c) for c in state.constraints]
+    items += [
+        ("vary", f"{name}:{float(lo)!r}:{float(hi)!r}")
+        for name, (lo, hi) in state.vary.items()
+        if math.isfinite(lo) and math.isfinite(hi)
+    ]
+    items += [("method", state.method), ("starts", str(int(state.starts)))]
     return urlencode(items)
 
 
@@ -572,11 +746,13 @@ def state_from_query(args: Mapping[str, Any], units: str | None = None) -> State
     as :func:`to_query` wrote them), or None when it carries none. Raises MechanismError
     naming the parameter that is not valid."""
 
+    def many(key) -> list[str]:
+        v = args.get(key, [])
+        v = list(v) if isinstance(v, list | tuple) else [v]
+        return [x.decode() if isinstance(x, bytes) else str(x) for x in v]
+
     def one(key):
-        v = args[key]
-        if isinstance(v, list | tuple):
-            v = v[-1]
-        return v.decode() if isinstance(v, bytes) else str(v)
+        return many(key)[-1]
 
     if "mechanism" not in args:
         return None
@@ -611,7 +787,67 @@ def state_from_query(args: Mapping[str, Any], units: str | None = None) -> State
     bad = state.field_messages()
     if bad:
         raise MechanismError("the URL's " + next(iter(bad.values())))
+    if "problem" in args:
+        _problem_from_query(state, many, one, args)
     return state
+
+
+def _problem_from_query(state: State, many, one, args) -> None:
+    """The problem a URL carries (see :func:`to_query`) set on ``state``; raises
+    MechanismError naming the parameter that is not valid."""
+    from ..synthesis.problem_file import parse_constraint, parse_measure
+
+    if "objective" in args:
+        text = one("objective").strip()
+        try:
+            parse_measure(text)
+        except (MechanismError, ValueError) as exc:
+            raise MechanismError(f"the URL's objective: {exc}") from None
+        state.objective = text
+    if "sense" in args:
+        sense = one("sense")
+        if sense not in ("minimize", "maximize"):
+            raise MechanismError(f"the URL's sense must be minimize or maximize, got {sense!r}")
+        state.sense = sense
+    constraints = [c.strip() for c in many("constraint") if c.strip()]
+    for c in constraints:
+        try:
+            parse_constraint(c)
+        except (MechanismError, ValueError) as exc:
+            raise MechanismError(f"the URL's constraint: {exc}") from None
+    state.constraints = constraints
+    vary = {}
+    names = [d.name for d in state.kind.dims]
+    for text in many("vary"):
+        parts = text.split(":")
+        if len(parts) != 3 or parts[0] not in names:
+            raise MechanismError(
+                f"the URL's vary must be name:lower:upper (SI) with a name of "
+                f"{', '.join(names)}, got {text!r}"
+            )
+        name = parts[0]
+        vary[name] = (_number(parts[1], f"{name} lower bound"),
+                      _number(parts[2], f"{name} upper bound"))  # fmt: skip
+    state.vary = vary
+    bad = state.bound_messages()
+    if bad:
+        raise MechanismError("the URL's bounds: " + next(iter(bad.values())))
+    if "method" in args:
+        method = one("method")
+        if method not in METHODS:
+            raise MechanismError(
+                f"the URL's method must be one of {', '.join(METHODS)}, got {method!r}"
+            )
+        state.method = method
+    if "starts" in args:
+        text = one("starts")
+        try:
+            starts = int(text)
+        except ValueError:
+            raise MechanismError(f"the URL's starts must be a whole number, got {text!r}") from None
+        if not 1 <= starts <= 1000:
+            raise MechanismError(f"the URL's starts must be 1 to 1000, got {starts}")
+        state.starts = starts
 
 
 def _number(text: str, what: str) -> float:

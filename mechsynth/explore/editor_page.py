@@ -105,7 +105,7 @@ class Editing:
         self._restoring = False
 
         # moving joints drag with the fixed pivots' tool
-        joints = app.fig.select_one({"name": "joints"})
+        joints = app.joints_renderer
         app.drag_tool.renderers = [*app.drag_tool.renderers, joints]
         app.drag_tool.description = "Drag a pivot or a joint"
         app.src_joints.on_change("data", self._on_joint_moved)
@@ -153,8 +153,8 @@ class Editing:
         self.stop_button.on_click(lambda e: app._later(self.stop))
         self.step = _widget(
             pn.widgets.Select, "A click on the drawing adds",
-            options={v: k for k, v in STEP_TYPES.items()}, value="ground", width=250,
-            visible=False,
+            options={**{v: k for k, v in STEP_TYPES.items()}, **_CLICK_EDITS}, value="ground",
+            width=250, visible=False,
         )  # fmt: skip
         self.p1 = _widget(pn.widgets.Select, "about / first point", options=[], width=150)
         self.p2 = _widget(pn.widgets.Select, "second point", options=[], width=150)
@@ -166,9 +166,25 @@ class Editing:
             callback=self._export, filename="linkage.toml", label="Linkage file (TOML)",
             width=190,
         )  # fmt: skip
+        # any element of the draft: chosen here (or by a click, "select"), moved by the next
+        # click ("move"), its dimensions typed, deleted with what depends on it
+        self.element = _widget(pn.widgets.Select, "Element", options=[], width=110)
+        self.element_dims = _widget(
+            pn.widgets.TextInput, "its dimensions", value="", width=330,
+            css_classes=["element-dims"],
+        )  # fmt: skip
+        self.delete_element_button = _widget(
+            pn.widgets.Button, "Delete it (and what depends on it)", width=250
+        )
+        self.delete_element_button.on_click(lambda e: app._later(self.delete_element))
+        app._watch(self.element, lambda e: self._show_element())
+        app._watch(self.element_dims, lambda e: self.set_element_dims(e.new))
         self.message = pn.pane.HTML("", sizing_mode="stretch_width", css_classes=["editor-message"])
         self.toml = pn.pane.HTML("", sizing_mode="stretch_width", css_classes=["editor-toml"])
-        for w in (self.p1, self.p2, self.angle, self.travel, self.delete_button, self.download):
+        for w in (
+            self.p1, self.p2, self.angle, self.travel, self.delete_button, self.download,
+            self.element, self.element_dims, self.delete_element_button,
+        ):  # fmt: skip
             w.visible = False
         app._watch(self.step, lambda e: self._show_draft())
 
@@ -187,6 +203,7 @@ class Editing:
             ),
             pn.FlexBox(self.step, self.p1, self.p2, self.angle, self.travel),
             pn.FlexBox(self.delete_button, self.download),
+            pn.FlexBox(self.element, self.element_dims, self.delete_element_button),
             self.message,
             self.toml,
             sizing_mode="stretch_width",
@@ -206,10 +223,16 @@ class Editing:
             self.history.record(_Snap(_copy(st), self.draft), key=changed)
         self._buttons()
         self._show_edit()
+        self.show_url()
+
+    def show_url(self):
+        """The page's state (the design and the problem) in its address."""
         try:
-            self.url.data = dict(q=[to_query(st)])
+            q = to_query(self.app.state)
         except MechanismError:
-            pass
+            return
+        if self.url.data.get("q") != [q]:
+            self.url.data = dict(q=[q])
 
     def _show_edit(self):
         st = self.app.state
@@ -389,6 +412,9 @@ class Editing:
         f = st.display.factor("m")
         x, y = round(x / grid) * grid * f, round(y / grid) * grid * f
         d, step = self.draft, self.step.value
+        if step in ("select", "move"):
+            self._click_edit(step, x, y)
+            return
         try:
             if step == "ground":
                 d = d.ground(x, y)
@@ -411,22 +437,120 @@ class Editing:
             return
         self._set_draft(d)
 
+    # ------------------------------------------------------------------ any element
+    def _click_edit(self, step, x, y):
+        """A click in "select" (the nearest point becomes the element edited) or "move" (the
+        element edited goes there) mode; (x, y) in m."""
+        d = self.draft
+        if step == "select":
+            places = d.places()
+            if not places:
+                self._say("no element to select yet", bad=True)
+                return
+            name = min(places, key=lambda p: math.hypot(*(places[p] - (x, y))))
+            self.element.value = name
+            self._show_element()
+            self._say(f"{name} selected: the next click moves it (\"move the selected\")")
+            self.step.value = "move"
+            return
+        name = self.element.value
+        if not name:
+            self._say("select an element first (in the list, or a click in select mode)", bad=True)
+            return
+        try:
+            new = d.move(name, x, y)
+        except MechanismError as exc:
+            self._say(str(exc), bad=True)
+            return
+        self._set_draft(new, f"{name} moved")
+
+    def delete_element(self, name: str | None = None):
+        """Delete the element chosen (and the elements placed from it), saying which."""
+        name = name or self.element.value
+        if self.draft is None or not name:
+            self._say("nothing to delete")
+            return
+        try:
+            new, deps = self.draft.delete(name)
+        except MechanismError as exc:
+            self._say(str(exc), bad=True)
+            return
+        said = f"deleted {name}" + (
+            f" and what depends on it: {', '.join(deps)}" if deps else " (nothing depends on it)"
+        )
+        self._set_draft(new, said)
+
+    def _element_text(self, name) -> str:
+        st = self.app.state
+        parts = []
+        for key, (v, unit) in self.draft.dims_of(name).items():
+            parts.append(f"{key} = {st.shown(v, unit):.6g}")
+        return ", ".join(parts)
+
+    def _show_element(self):
+        """The chosen element's dimensions in its field (display units: lengths, deg)."""
+        d, name = self.draft, self.element.value
+        text = self._element_text(name) if d is not None and name in d.elements else ""
+        app = self.app
+        app._building = True
+        try:
+            self.element_dims.value = text
+        finally:
+            app._building = False
+        from .app import _set_label
+
+        unit = app.state.unit_label("m")
+        _set_label(self.element_dims, f"its dimensions ({unit}, angles in deg)")
+
+    def set_element_dims(self, text: str):
+        """The chosen element's dimensions typed as ``name = value, ...`` (display units)."""
+        d, name = self.draft, self.element.value
+        if d is None or name not in d.elements:
+            return
+        st = self.app.state
+        known = d.dims_of(name)
+        values = {}
+        for part in [t for t in (text or "").replace(";", ",").split(",") if t.strip()]:
+            key, eq, number = part.partition("=")
+            key = key.strip()
+            if not eq or key not in known:
+                self._say(
+                    f"{name}'s dimensions are {', '.join(known) or 'none'} (name = value, ...), "
+                    f"got {part.strip()!r}",
+                    bad=True,
+                )
+                return
+            unit = known[key][1]
+            try:
+                shown = parse_number(number, f"{key}, {st.unit_label(unit) or 'deg'}")
+            except MechanismError as exc:
+                self._say(str(exc), bad=True)
+                return
+            values[key] = st.si(shown, unit)
+        if all(known[k][0] == v for k, v in values.items()):
+            return
+        self._set_draft(d.with_values(values), f"{name}'s dimensions changed")
+
     def _angle(self) -> float:
         return math.radians(parse_number(self.angle.value, "guide angle, deg"))
 
-    def _set_draft(self, d: Draft):
+    def _set_draft(self, d: Draft, did: str | None = None):
         app = self.app
         self.draft = d
         lk, message = d.check()
         if lk is None:
-            self._show_draft(message)
+            # the page keeps the last mechanism; the draft's points are drawn over it, and
+            # the fields no longer write into the draft
+            self._draft_kind = None
+            self._show_draft(f"{did}; {message}" if did else message)
             self._record_draft()
             return
         st = State.of(d.kind(), app.units_select.value)
         if not st.slider_driven and not app.state.slider_driven:
             st.speed = app.state.speed
         self._draft_kind = st.kind
-        self._show_draft("the linkage assembles: drawn and animated, its dimensions in the fields")
+        done = "the linkage assembles: drawn and animated, its dimensions in the fields"
+        self._show_draft(f"{did}; {done}" if did else done)
         app._load_state(st, "")
 
     def _say(self, text, bad=False):
@@ -476,6 +600,8 @@ class Editing:
         self.stop_button.visible = on
         self.delete_button.visible = d is not None
         self.download.visible = d is not None
+        for w in (self.element, self.element_dims, self.delete_element_button):
+            w.visible = d is not None and bool(d.steps)
         self._show_controls()
         if d is None:
             self.toml.object = ""
@@ -491,6 +617,12 @@ class Editing:
         self.p2.options = points
         if self.p2.value not in points and points:
             self.p2.value = ground[-1] if ground else points[-1]
+        elements = list(d.elements)
+        if list(self.element.options) != elements:
+            self.element.options = elements
+        if self.element.value not in elements and elements:
+            self.element.value = elements[-1]
+        self._show_element()
         self.toml.object = (
             "<b>The linkage file</b> (<code>mechsynth optimize</code>, "
             "<code>mechsynth animate</code> and this page read it):"
@@ -522,6 +654,13 @@ class Editing:
         if self.draft is None:
             return io.BytesIO(b"")
         return self.app._save("linkage.toml", self.draft.toml().encode())
+
+
+# what a click on the drawing does besides adding an element
+_CLICK_EDITS = {
+    "select an element (the nearest point)": "select",
+    "move the selected element here": "move",
+}
 
 
 def _set(widget, **values):
