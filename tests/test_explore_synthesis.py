@@ -447,6 +447,13 @@ def test_the_page_object_searches_its_linkage_and_runs_the_min_max(page):
     syn.start_path()
     assert not syn._path_run.running
     assert "6 points, got 2 angles" in syn.path_msg.object
+    # a linkage driven by a slider: refused before any process starts, with why
+    page._load_state(load_cylinder_rocker(), "optimize_cylinder_rocker.toml")
+    page.poll()
+    syn.timing.value = "free"
+    syn.start_path()
+    assert not syn._path_run.running
+    assert "is driven by a slider: path generation turns a crank" in syn.path_msg.object
     # the function generator, then its min-max stage in a worker process
     syn.tasks.active = 2
     assert syn.fn_minmax.disabled  # nothing to start from yet

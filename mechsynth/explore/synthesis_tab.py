@@ -219,6 +219,7 @@ class SynthesisTab:
         self._tables = None  # the linkage's tables it searched over (None: four-bar, slider)
         self._moved = []  # the target lists (points, poses) before each move, to undo it
         self._linkage_kind = None  # the page's linkage the path options were made for
+        self._seen_kind = None  # the page's mechanism when they were last looked at
         self._targets = None  # its targets (m)
         self._function = None  # the running function generation (a future)
         self._fg = None  # the last function generator
@@ -765,6 +766,7 @@ class SynthesisTab:
         self.path_linkage_row.visible = linkage
         if not linkage:
             return
+        self._seen_kind = self.app.state.kind
         kind = self._page_linkage()
         if kind is None:
             self.path_trace.options, self.path_vary.options = [], []
@@ -832,6 +834,11 @@ class SynthesisTab:
                     "Mechanism menu or open a linkage file first"
                 )
             spread = parse_number(self.path_spread.value, "range of each varied dimension, %")
+            if not kind.build(dict(st.values)).periodic:
+                raise MechanismError(
+                    f"the {kind.title} is driven by a slider: path generation turns a crank "
+                    "(a linkage driven by a crank, or the four-bar or the slider-crank)"
+                )
             kw.update(
                 tables=kind.file_data,
                 values=dict(st.values),
@@ -879,8 +886,8 @@ class SynthesisTab:
         """Collect the workers' messages and the function generator (periodic callback)."""
         self._poll_function()
         self._poll_minmax()
-        if self.path_mech.value == "linkage" and self.app.state.kind is not self._linkage_kind:
-            self._path_options()  # the page shows another linkage
+        if self.path_mech.value == "linkage" and self.app.state.kind is not self._seen_kind:
+            self._path_options()  # the page shows another mechanism
         run = self._path_run
         if not run.running:
             return
