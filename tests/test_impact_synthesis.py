@@ -63,8 +63,15 @@ def test_problem_evaluates_the_representative_design():
 
 @pytest.mark.slow
 def test_certified_synthesis():
+    from mechsynth.synthesis import transcription as T
+
     m = representative_machine("six")
+    T.clear_cache()
     out = synthesize(m, starts=3)
+    # its slots allocated once: one program for the three starts and the refinement rounds,
+    # a second (twice the slots) for the candidate whose angles outgrew them; the ladder of 16
+    # to 128 slots built seven, each some 110-160 MB, and the memory with them
+    assert T.cache_info()["structures"] <= 2 and T.cache_info()["solvers"] <= 2
     assert out["success"] and out["status"] == "optimal"
     c = out["check"]
     assert out["blow_energy_J"] > out["representative"]["blow_energy_J"]
@@ -125,9 +132,14 @@ def test_an_inactive_stroke_bound_is_solved_again_with_the_stroke_held(monkeypat
 def test_pareto_front_of_blow_energy_against_transverse_load():
     from mechsynth.machines.impact.synthesis import pareto_figure, pareto_front
     from mechsynth.plotting import layout_problems
+    from mechsynth.synthesis import transcription as T
 
     m = representative_machine("six")
+    T.clear_cache()
     front = pareto_front(m, n=2, anchor_starts=3)
+    # a program per problem structure: the energy alone, the load alone, the energy at a bound
+    # on the load (the second anchor's lexicographic step)
+    assert T.cache_info()["structures"] <= 3 and T.cache_info()["solvers"] <= 3
     ok = [p for p in front["points"] if p["success"]]
     assert len(ok) == 2
     lo, hi = sorted(ok, key=lambda p: p["second"])
