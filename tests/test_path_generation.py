@@ -373,6 +373,22 @@ def test_linkage_min_transmission_and_slider_crank():
     assert np.all(np.diff(r.angles) >= -1e-9) and r.angles[-1] - r.angles[0] <= 2 * np.pi + 1e-9
 
 
+@pytest.mark.slow
+def test_a_margin_dipping_between_the_nlp_grid_angles_is_resolved_not_refused():
+    """Six points, a slider-crank at evenly spaced prescribed angles, 30 deg: the NLP's 72-angle
+    margin grid let the rod's margin dip to 0.2499... between them, and every start was refused
+    ("assembly margin B down to 0.25 (needs 0.25)"). The floor is now raised and re-solved."""
+    pts = np.array([[0.06142, 0.16696], [0.05455, 0.21767], [0.00102, 0.22459],
+                    [-0.05027, 0.18145], [-0.07607, 0.11405], [-0.062, 0.03655]])  # fmt: skip
+    r = ms.path_generation(pts, mechanism="slider-crank", timing="prescribed",
+                           angles=np.arange(6) * np.pi / 3, min_transmission=ms.deg(30),
+                           starts=4, progress=False)  # fmt: skip
+    assert r.success, r.message
+    low = min(float(np.min(v)) for v in r.design.assembly_margins(ms.cycle(20000)).values())
+    assert low >= np.sin(ms.deg(30)) ** 2 * (1 - 1e-6)
+    assert r.error < 1e-2
+
+
 @pytest.mark.parametrize(
     "kw, match",
     [

@@ -111,19 +111,24 @@ def _transmission(lk, n=3600):
     return float(np.minimum(mu, np.pi - mu).min()), float(mu.max())
 
 
-def _margins_ok(lk, floor, n=3600) -> str:
-    """'' when every assembly margin stays above ``floor`` over ``n`` crank angles."""
+def _margins_ok(lk, floor, n=3600) -> tuple[str, float]:
+    """('', lowest) when every assembly margin stays above ``floor`` over ``n`` crank angles,
+    else (why, lowest margin; -inf when the linkage does not assemble)."""
     from ..units import cycle
 
     try:
         margins = lk.assembly_margins(cycle(n))
     except MechanismError as exc:
-        return str(exc)
+        return str(exc), -np.inf
+    low = np.inf
     for name, m in margins.items():
         m = np.asarray(m, dtype=float)
-        if not np.all(np.isfinite(m)) or m.min() < floor:
-            return f"assembly margin {name} down to {np.nanmin(m):.3g} (needs {floor:.3g})"
-    return ""
+        if not np.all(np.isfinite(m)):
+            return f"assembly margin {name} not finite over the turn", -np.inf
+        low = min(low, float(m.min()))
+        if m.min() < floor:
+            return f"assembly margin {name} down to {m.min():.6g} (needs {floor:.6g})", low
+    return "", low
 
 
 @functools.lru_cache(maxsize=16)
@@ -290,20 +295,28 @@ def linkage_path_generation(
             if objective == "max":
                 x0 = np.append(x0, float(((curves[row][None] - t[:, None]) ** 2).sum(-1).max()))
             x0 = np.clip(x0, lbx, ubx)
-            s, _ = solve_with_peaks(
-                solver, fun, x0, P, ng, lbx, ubx, objective,
-                lambda z: _solution(linkage, names, trace, z, n, timing, given, t, objective),
-                constraints, speed,
-            )  # fmt: skip
+            from .path_measures import check_constraints
+
+            # the NLP bounds the margins on GRID angles only: where they dip below the floor
+            # between them, re-solve with the floor raised by twice the dip (up to 3 times)
+            Pk = P.copy()
+            for _ in range(4):
+                s, _ = solve_with_peaks(
+                    solver, fun, x0, Pk, ng, lbx, ubx, objective,
+                    lambda z: _solution(linkage, names, trace, z, n, timing, given, t, objective),
+                    constraints, speed,
+                )  # fmt: skip
+                if isinstance(s, str):
+                    break
+                bad, low = _margins_ok(s.linkage, floor * (1 - 1e-6) - 1e-12)
+                if not bad or not np.isfinite(low) or floor - low > 0.5 * floor:
+                    break
+                Pk[2 * n] += 2.0 * (floor - low) + 1e-9
             ran += 1
             if isinstance(s, str):
                 why = s
                 continue
-            from .path_measures import check_constraints
-
-            bad = _margins_ok(s.linkage, floor * (1 - 1e-6) - 1e-12) or check_constraints(
-                constraints, s.linkage, speed
-            )
+            bad = bad or check_constraints(constraints, s.linkage, speed)
             if bad:
                 why = bad
                 continue
