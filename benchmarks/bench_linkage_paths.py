@@ -13,14 +13,17 @@ printed as the three runs' times and their ratios to the numpy model's time in t
 
 * ``Linkage.motion``: every output (every point's position, velocity and acceleration, every
   link's angle and analogs, sliders, per-group pressure and transmission angles and assembly
-  margins) at 600 rpm, the designs as ``(n, 1)`` parameter arrays;
+  margins) at 600 rpm, the designs as ``(n, 1)`` parameter arrays; for one design also
+  ``Linkage.motion(kernel=True)`` (on the compiled kernel);
 * ``plain numpy, every output``: the same outputs written out by hand for this linkage
   (:func:`plain_numpy`), checked against the model to 1e-12;
 * ``plain numpy, positions``: the points' positions alone, by hand;
 * ``kernel via linkage_batch``: the generated kernel through the API (the Motion of the batch,
   every output); ``kernel raw``: the kernel's call into a reused block. Both in chunks of a 2
   MiB block (:data:`KERNEL_BLOCK`, a few designs), which stays in the caches; ``kernel raw,
-  chunks of 182 designs`` shows the cost of a 33 MB block written out to memory;
+  chunks of 182 designs`` shows the cost of a 33 MB block written out to memory. These rows
+  are the default code generator's (C where a compiler is found); ``..., numba`` the same on
+  numba's kernel, side by side;
 * pylinkage 1.3.0 (``pip install pylinkage==1.3.0``; the rows are skipped without it): its
   position loop ``Linkage.step`` (one design after the other; at 10,000 designs on a sample of
   10, scaled, and marked so), its compiled ``step_fast``, its ensemble API
@@ -30,9 +33,10 @@ printed as the three runs' times and their ratios to the numpy model's time in t
 
 Below each table, the ratios the paths are judged by (:data:`GOALS`), per run.
 
-With ``--compile``, new processes with a new cache directory time the kernel's first
-compilation (blocking), its load from the disk cache after numba's start (numba's import and
-first-use set-up, paid once per process by any compiled function, timed apart), and
+With ``--compile``, for each code generator (C and numba), new processes with a new cache
+directory time the kernel's first compilation (blocking; wall time, and CPU time with the C
+compiler's), its load from the disk cache (numba's after its start: its import and first-use
+set-up, paid once per process by any compiled function, timed apart), and
 ``linkage_kernel(..., wait=False)``: how soon the first call returns, how many motions the model
 serves while the kernel compiles in the background, and when the kernel is ready.
 
@@ -365,18 +369,19 @@ def paths(name, n, have_pylinkage):
     size = min(n, CHUNK)
     count = -(-n // size)
     lk = designs(name, size)
-    kernel = lkk.linkage_kernel(lk)
+    kernels = backend_kernels(lk)
+    kernel = next(iter(kernels.values()))  # the default generator's (C where a compiler is)
     ksize = min(n, kernel_chunk(kernel))
     kcount = -(-n // ksize)
     klk = designs(name, ksize)
     ws = BatchWorkspace()
 
-    def raw_call(k, n_k):
+    def raw_call(k, n_k, kernel=kernel):
         cols = [np.broadcast_to(np.asarray(k.parameters[p], float).reshape(-1), (n_k,))
                 for p in kernel.names]  # fmt: skip
         params = np.ascontiguousarray(np.stack(cols, axis=1))
         block, flags = np.empty((kernel.outputs, n_k, PHI.size)), np.empty((n_k, 2))
-        return lambda: kernel(params, PHI, block, flags, speed=(SPEED, 0.0))
+        return lambda: kernel(params, PHI, block, flags, speed=(SPEED, 0.0), threads=False)
 
     def chunks(fn, times=count):
         def run():
@@ -387,6 +392,11 @@ def paths(name, n, have_pylinkage):
 
     rows = {
         "Linkage.motion": chunks(lambda: lk.motion(PHI, speed=SPEED)),
+        **(
+            {"Linkage.motion(kernel=True)": lambda: lk.motion(PHI, speed=SPEED, kernel=True)}
+            if n == 1
+            else {}
+        ),
         "plain numpy, every output": chunks(lambda: plain_numpy(lk, PHI, SPEED)),
         "plain numpy, positions": chunks(lambda: plain_positions(lk, PHI)),
         "kernel via linkage_batch": chunks(
@@ -394,6 +404,15 @@ def paths(name, n, have_pylinkage):
         ),
         "kernel raw": chunks(raw_call(klk, ksize), kcount),
     }
+    for backend, other in list(kernels.items())[1:]:
+        ws_other = BatchWorkspace()
+        rows[f"kernel via linkage_batch, {backend}"] = chunks(
+            lambda other=other, ws_other=ws_other: lkk.linkage_batch(
+                klk, PHI, SPEED, ws_other, other
+            ),
+            kcount,
+        )
+        rows[f"kernel raw, {backend}"] = chunks(raw_call(klk, ksize, other), kcount)
     if ksize != size:
         rows[f"kernel raw, chunks of {size} designs"] = chunks(raw_call(lk, size))
     if have_pylinkage:
@@ -429,19 +448,24 @@ def paths(name, n, have_pylinkage):
 
 
 _CHILD = """
-import time
+import resource, time
+def cpu():
+    r, c = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime + c.ru_utime + c.ru_stime
 t = time.perf_counter()
 import mechsynth.kinematics.linkage_kernels as lkk
 from bench_linkage_paths import LINKAGES
 lk = LINKAGES[{name!r}]()
 t0 = time.perf_counter()
-import numba
-from mechsynth.kinematics import scalar_ops
-scalar_ops.sqrt(1.0)  # numba's start: its import and first-use set-up (a cached function)
+if {backend!r} == "numba":
+    import numba
+    from mechsynth.kinematics import scalar_ops
+    scalar_ops.sqrt(1.0)  # numba's start: its import and first-use set-up (a cached function)
 t1 = time.perf_counter()
-lkk.linkage_kernel(lk)
+c1 = cpu()
+assert lkk.linkage_kernel(lk).backend == {backend!r}
 t2 = time.perf_counter()
-print(t0 - t, t1 - t0, t2 - t1)
+print(t0 - t, t1 - t0, t2 - t1, cpu() - c1)
 """
 
 _CHILD_BEHIND = """
@@ -463,29 +487,50 @@ print(returned, ready, served)
 """
 
 
-def fresh_process(script, name, cache):
-    """The numbers a new process prints (with its kernel cache in ``cache``)."""
-    env = dict(os.environ, MECHSYNTH_CACHE_DIR=cache)
+def fresh_process(script, name, cache, backend):
+    """The numbers a new process prints (with its kernel cache in ``cache``, its kernels of
+    ``backend``)."""
+    env = dict(os.environ, MECHSYNTH_CACHE_DIR=cache, MECHSYNTH_KERNELS=backend)
     here = os.path.dirname(os.path.abspath(__file__))
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [here, env.get("PYTHONPATH", "")]))
-    out = subprocess.run([sys.executable, "-c", script.format(name=name)], env=env,
+    out = subprocess.run([sys.executable, "-c", script.format(name=name, backend=backend)], env=env,
                          capture_output=True, text=True, check=True)  # fmt: skip
     return [float(x) for x in out.stdout.split()]
 
 
-def compile_times(name):
-    """``{what: seconds}`` of the kernel's first compilation and later loads (new processes)."""
+def compile_times(name, backend):
+    """``{what: seconds}`` of the ``backend``'s kernel's first compilation and later loads
+    (new processes)."""
     got = {}
     with tempfile.TemporaryDirectory() as cache:
-        _, start, got["compile (blocking)"] = fresh_process(_CHILD, name, cache)
-        loads = [fresh_process(_CHILD, name, cache) for _ in range(2)]
+        _, start, got["compile (blocking)"], got["compile CPU"] = fresh_process(
+            _CHILD, name, cache, backend
+        )
+        loads = [fresh_process(_CHILD, name, cache, backend) for _ in range(2)]
         got["numba start"] = [start] + [x[1] for x in loads]
         got["load from the cache"] = [x[2] for x in loads]
     with tempfile.TemporaryDirectory() as cache:
-        returned, ready, served = fresh_process(_CHILD_BEHIND, name, cache)
+        returned, ready, served = fresh_process(_CHILD_BEHIND, name, cache, backend)
     got["wait=False returns"], got["kernel ready after"] = returned, ready
     got["model motions served meanwhile"] = served
     return got
+
+
+def backend_kernels(lk) -> dict:
+    """``{backend: kernel}`` of ``lk``'s structure for the generators this machine has, the
+    default's first."""
+    import mechsynth.kinematics.linkage_kernels as lkk
+
+    first = lkk.kernel_backend()
+    out = {}
+    for backend in (first, *(b for b in ("c", "numba") if b != first)):
+        os.environ[lkk.BACKEND_ENV] = backend
+        try:
+            if lkk.kernel_backend() == backend:
+                out[backend] = lkk.linkage_kernel(lk)
+        finally:
+            os.environ.pop(lkk.BACKEND_ENV)
+    return out
 
 
 def main(argv=None):
@@ -519,7 +564,8 @@ def main(argv=None):
             pylinkage_check(designs(name, 1))
         entry = report["linkages"][name] = {"plain numpy agrees to": worst, "outputs": count}
         if args.compile:
-            entry["compile"] = compile_times(name)
+            for backend in backend_kernels(designs(name, 1)):
+                entry[f"compile {backend}"] = compile_times(name, backend)
         for n in args.designs:
             rows = paths(name, n, bool(version))
             got = {}
@@ -545,17 +591,21 @@ def show(report, repeat, runs):
     for name, entry in report["linkages"].items():
         print(f"\n{name}: plain numpy = Linkage.motion to {entry['plain numpy agrees to']:.1e} "
               f"({entry['outputs']} outputs)")  # fmt: skip
-        if "compile" in entry:
-            c = entry["compile"]
-            print(f"  kernel, new process and empty cache: compiled in "
-                  f"{c['compile (blocking)']:.2f} s (blocking); with wait=False the call "
-                  f"returns in {c['wait=False returns'] * 1e3:.1f} ms and the model serves "
+        for backend in ("c", "numba"):
+            c = entry.get(f"compile {backend}")
+            if c is None:
+                continue
+            print(f"  {backend} kernel, new process and empty cache: compiled in "
+                  f"{c['compile (blocking)']:.2f} s wall, {c['compile CPU']:.2f} s CPU "
+                  f"(with its compiler's; blocking); with wait=False the call returns in "
+                  f"{c['wait=False returns'] * 1e3:.1f} ms and the model serves "
                   f"({c['model motions served meanwhile']:.0f} motions) until the kernel is "
                   f"ready after {c['kernel ready after']:.2f} s")  # fmt: skip
             loads = ", ".join(f"{x:.3f}" for x in c["load from the cache"])
             starts = ", ".join(f"{x:.2f}" for x in c["numba start"])
-            print(f"  kernel, new process, from the cache: {loads} s after numba's start "
-                  f"({starts} s: its import and set-up, once per process)")
+            tail = f" after numba's start ({starts} s: its import and set-up, once per process)"
+            print(f"  {backend} kernel, new process, from the cache: {loads} s"
+                  + (tail if backend == "numba" else ""))  # fmt: skip
         for n in (k for k in entry if str(k).isdigit()):
             got = entry[n]
             base = got["Linkage.motion"]
@@ -581,6 +631,14 @@ GOALS = {
         "pylinkage step_fast_with_kinematics",
         "Linkage.motion",
     ),
+    "Linkage.motion(kernel=True) faster than plain numpy, every output (goal >= 1)": (
+        "plain numpy, every output",
+        "Linkage.motion(kernel=True)",
+    ),
+    "Linkage.motion(kernel=True) faster than pylinkage's kinematics (goal >= 1)": (
+        "pylinkage step_fast_with_kinematics",
+        "Linkage.motion(kernel=True)",
+    ),
     "the kernel's time via linkage_batch / raw (goal <= 2)": (
         "kernel via linkage_batch",
         "kernel raw",
@@ -597,6 +655,7 @@ GOALS = {
         "plain numpy, positions",
         "kernel raw",
     ),
+    "C kernel raw faster than numba's": ("kernel raw, numba", "kernel raw"),
 }
 
 
