@@ -483,13 +483,18 @@ print(first is None, returned, built, bool(good.all()), err)
 
 
 @pytest.mark.slow
-def test_a_first_compilation_behind_the_caller_in_a_new_process(tmp_path):
+@pytest.mark.parametrize("generator", ["c", "numba"])
+def test_a_first_compilation_behind_the_caller_in_a_new_process(tmp_path, generator, monkeypatch):
     """In a new process with an empty cache, ``wait=False`` returns at once while the six-link's
-    kernel compiles (seconds), and the kernel's motion is then the model's."""
+    kernel compiles (seconds; numba's in yet another process), and the kernel's motion is then
+    the model's."""
     import os
     import subprocess
     import sys
 
+    monkeypatch.setenv(lkk.BACKEND_ENV, generator)
+    if lkk.kernel_backend() != generator:
+        pytest.skip(f"no {generator} kernels on this machine")
     env = {**os.environ, "MECHSYNTH_CACHE_DIR": str(tmp_path)}
     run = subprocess.run(
         [sys.executable, "-c", _BEHIND], env=env, capture_output=True, text=True, timeout=600
@@ -531,6 +536,13 @@ def test_without_a_compiler_the_kernels_are_numbas(monkeypatch):
     assert (kernel is not None and kernel.backend == "numba") if numba else kernel is None
     monkeypatch.setenv(lkk.BACKEND_ENV, "c")
     assert lkk.kernel_backend() is None and lkk.linkage_kernel(six_link()) is None
+    assert lkk.linkage_batch(six_link(), PHI) is None
+    monkeypatch.delenv(lkk.COMPILER_ENV)
+    monkeypatch.setenv(lkk.BACKEND_ENV, "auto")
+    if lkk.c_compiler() is not None:  # a compiler on the PATH: C is the default
+        assert lkk.kernel_backend() == "c" and lkk.linkage_kernel(six_link()).backend == "c"
+    monkeypatch.setenv(lkk.COMPILER_ENV, "no-such-compiler-here")
+    monkeypatch.setenv(lkk.BACKEND_ENV, "c")
     assert lkk.linkage_batch(six_link(), PHI) is None
     monkeypatch.setenv(lkk.BACKEND_ENV, "fortran")
     with pytest.raises(MechanismError, match="MECHSYNTH_KERNELS.*fortran"):
