@@ -7,9 +7,9 @@ impact`` solves it): the certified synthesis (3 starts) and then the Pareto fron
 energy against the transverse housing load (``--points``, default 3) with the synthesis as its
 energy anchor. Printed per run: wall and CPU time of the synthesis and of the front, the peak
 resident memory after each (``ru_maxrss``, so the second is the whole run's), the programs and
-IPOPT solvers built (this code's :func:`mechsynth.synthesis.transcription.cache_info`; the
-baseline may have no such count), the synthesis' blow energy, the front's points and the load
-average when the run started.
+IPOPT solvers built by the synthesis and in all (``synthesis/all``, this code's
+:func:`mechsynth.synthesis.transcription.cache_info`; the baseline may have no such count),
+the synthesis' blow energy, the front's points and the load average when the run started.
 
 ``--baseline DIR``: a checkout of an earlier commit (e.g. ``git worktree add ../old 59fc68f``),
 run with ``PYTHONPATH=DIR``; its runs alternate with this code's, so both see the same load.
@@ -93,6 +93,13 @@ def run(points: int, housing: str, baseline: Path | None = None) -> dict:
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
 
+def _built(synthesis, total, key: str) -> str:
+    """``synthesis/all`` of a count, or "-" when the code does not count its builds."""
+    if not total:
+        return "-"
+    return f"{synthesis[key]}/{total[key]}" if synthesis else str(total[key])
+
+
 def _row(name: str, r: dict) -> str:
     built = r.get("built") or {}
     front = r.get("front_wall")
@@ -100,7 +107,8 @@ def _row(name: str, r: dict) -> str:
         f"  {name:10s} {r['load']:5.1f} {r['synthesis_wall']:8.1f} {r['synthesis_cpu']:8.1f} "
         f"{r['synthesis_peak']:9.0f} "
         + (f"{front:8.1f} {r['front_cpu']:8.1f} " if front is not None else f"{'-':>8s} " * 2)
-        + f"{r['peak']:9.0f} {built.get('programs', '-'):>8} {built.get('solvers', '-'):>7}  "
+        + f"{r['peak']:9.0f} {_built(r.get('synthesis_built'), built, 'programs'):>8} "
+        + f"{_built(r.get('synthesis_built'), built, 'solvers'):>7}  "
         + f"{r['synthesis_J']:.4f} J; front "
         + ", ".join(f"{a:.4f} J at {b:.1f} N" for a, b in r.get("front", []))
     )

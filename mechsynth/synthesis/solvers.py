@@ -342,8 +342,14 @@ class _Certifier:
         return np.concatenate([self.problem.base_angles, self.extra])
 
     def checks(self, mech):
-        """The peak checks at ``mech``, the angles to add as ``(angle, index of the peak in
-        atoms or None)`` and the true peaks by measure identity."""
+        """The peak checks at ``mech``, the angles to add and the true peaks by measure
+        identity."""
+        checks, found, true_q = self.found(mech)
+        return checks, [a for a, _ in found], true_q
+
+    def found(self, mech):
+        """:meth:`checks` with each angle to add as ``(angle, index of its peak in atoms, or
+        None for an angle where the design does not assemble)``."""
         checks, new, true_q = [], [], {}
         for k, atom in enumerate(self.atoms):
             try:
@@ -418,7 +424,7 @@ class _Certifier:
             if run.design is None:
                 return run, (), False, {}
             try:
-                checks, new, true_q = self.checks(run.design)
+                checks, new, true_q = self.found(run.design)
             except _Unassembled:
                 return replace(run, design=None, violation=np.inf), (), False, {}
             if not new:
