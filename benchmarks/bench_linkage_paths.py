@@ -23,7 +23,9 @@ printed as the three runs' times and their ratios to the numpy model's time in t
   MiB block (:data:`KERNEL_BLOCK`, a few designs), which stays in the caches; ``kernel raw,
   chunks of 182 designs`` shows the cost of a 33 MB block written out to memory. These rows
   are the default code generator's (C where a compiler is found); ``..., numba`` the same on
-  numba's kernel, side by side;
+  numba's kernel, side by side; ``kernel raw, points only``: the kernel of the points'
+  positions, velocities and accelerations alone (``outputs="points"``: what pylinkage's
+  kinematics computes);
 * pylinkage 1.3.0 (``pip install pylinkage==1.3.0``; the rows are skipped without it): its
   position loop ``Linkage.step`` (one design after the other; at 10,000 designs on a sample of
   10, scaled, and marked so), its compiled ``step_fast``, its ensemble API
@@ -404,6 +406,8 @@ def paths(name, n, have_pylinkage):
         ),
         "kernel raw": chunks(raw_call(klk, ksize), kcount),
     }
+    points = lkk.linkage_kernel(lk, outputs="points")
+    rows["kernel raw, points only"] = chunks(raw_call(klk, ksize, points), kcount)
     for backend, other in list(kernels.items())[1:]:
         ws_other = BatchWorkspace()
         rows[f"kernel via linkage_batch, {backend}"] = chunks(
@@ -656,6 +660,14 @@ GOALS = {
         "kernel raw",
     ),
     "C kernel raw faster than numba's": ("kernel raw, numba", "kernel raw"),
+    "kernel raw, points only, faster than pylinkage's kinematics (goal >= 30)": (
+        "pylinkage step_fast_with_kinematics",
+        "kernel raw, points only",
+    ),
+    "kernel raw, points only, faster than plain numpy, positions (goal >= 1)": (
+        "plain numpy, positions",
+        "kernel raw, points only",
+    ),
 }
 
 
