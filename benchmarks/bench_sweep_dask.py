@@ -132,8 +132,10 @@ def main(argv=None):
                   f"{args.runs} runs:")  # fmt: skip
             base = rows["this process"]
             for label, ts in rows.items():
+                ratio = statistics.median(ts) / statistics.median(base)
                 print(f"  {label:28s} " + " ".join(f"{t:6.2f}" for t in ts) + "   / this process "
-                      + " ".join(f"{t / b:5.2f}" for t, b in zip(ts, base)))  # fmt: skip
+                      + " ".join(f"{t / b:5.2f}" for t, b in zip(ts, base))
+                      + f"   medians {ratio:5.2f}")  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -5,8 +5,11 @@ The chart of ``bench_sweep.py`` (offset slider-cranks of a 100 mm stroke over ``
 rod/crank x offset/crank, 360 crank angles, 600 rpm, four measures through
 :func:`mechsynth.synthesis.charts.slider_crank_chart`) against its hand-written loop on
 ``slider_crank_batch`` (:func:`bench_sweep.hand_written`). Each size runs in a fresh process
-(warmed up on a small grid first) so that its peak resident memory is its own; the CPU time
-(``time.process_time``) of each of ``--repeat`` runs is printed with the ratio sweep / by hand,
+(warmed up by one untimed run of each at its size, so that neither pays its first touch of
+its memory in the timing) so that its peak resident memory is its own; the CPU time
+(``time.process_time``) of each of ``--repeat`` runs is printed with the ratio sweep / by hand
+(a run of a grid under a million designs repeats each chart enough times for a million
+designs, so that the timer's resolution and the machine's noise do not decide the ratio),
 and the peak resident memory over the warm start per design (it holds both charts' whole-grid
 arrays -- the sweep's measures, parameters and feasibility, the hand-written loop's grids and
 results -- and one chunk's kinematics each: flat memory is a figure per design that does not
@@ -41,14 +44,19 @@ def one_size(n: int, repeat: int) -> dict:
     b.hand_written(lam[:5], eps[:5])  # load the kernels
     charts.slider_crank_chart(rod_crank=lam[:5], offset_crank=eps[:5], progress=False)
     base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    b.hand_written(lam, eps)  # each one's memory touched once
+    charts.slider_crank_chart(rod_crank=lam, offset_crank=eps, progress=False)
+    loops = max(1, 10**6 // (n * n))
     hand, swept = [], []
     for _ in range(repeat):
         t = time.process_time()
-        ref = b.hand_written(lam, eps)
-        hand.append(time.process_time() - t)
+        for _ in range(loops):
+            ref = b.hand_written(lam, eps)
+        hand.append((time.process_time() - t) / loops)
         t = time.process_time()
-        ch = charts.slider_crank_chart(rod_crank=lam, offset_crank=eps, progress=False)
-        swept.append(time.process_time() - t)
+        for _ in range(loops):
+            ch = charts.slider_crank_chart(rod_crank=lam, offset_crank=eps, progress=False)
+        swept.append((time.process_time() - t) / loops)
         both = ch.feasible & np.isfinite(ref["acc"])
         assert both.sum() >= 0.999 * ch.feasible.sum()  # the limit's round-off aside
         for key, label in (("acc", "peak slider acceleration"), ("pres", "max pressure angle")):
@@ -92,7 +100,7 @@ def main(argv=None):
         print(
             f"  {r['designs']:>9,d} designs: by hand "
             + " ".join(f"{t:.2f}" for t in r["hand_s"])
-            + " s, sweep "
+            + " s, sweep "  # per chart
             + " ".join(f"{t:.2f}" for t in r["sweep_s"])
             + " s, ratio "
             + " ".join(f"{x:.2f}" for x in ratios)
