@@ -121,6 +121,7 @@ def main(argv=None):
     }
     kw = dict(angles=360, speed=ms.rpm(600), progress=False)
     charts.LINKAGE_KERNEL_MIN = 0  # on the kernel whatever the chart's size
+    charts.LINKAGE_KERNEL_CACHED_MIN = 0
     fast = charts.sweep(six, grid, measures, **kw)
     t_fast = timed(lambda: charts.sweep(six, grid, measures, **kw), args.repeat)
     model = charts.sweep(six, grid, measures, kernels=False, **kw)

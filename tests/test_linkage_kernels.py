@@ -318,7 +318,13 @@ def test_linkage_chart_on_the_kernel_is_the_models(name, monkeypatch, backend):
     }
     kw = dict(angles=60, progress=False, speed=ms.rpm(100))
     monkeypatch.setattr(charts, "LINKAGE_KERNEL_MIN", 0)
+    monkeypatch.setattr(charts, "LINKAGE_KERNEL_CACHED_MIN", 0)
+    lkk.linkage_kernel(lk)  # ready before the sweep (else its first chunks use the model)
+    batches = []
+    real = lkk.linkage_batch
+    monkeypatch.setattr(lkk, "linkage_batch", lambda *a, **k: batches.append(1) or real(*a, **k))
     fast = charts.sweep(lk, grid, measures, **kw)
+    assert batches  # on the kernel, not the model
     model = charts.sweep(lk, grid, measures, kernels=False, **kw)
     assert fast.feasible.any() and not fast.feasible.all()
     np.testing.assert_array_equal(fast.feasible, model.feasible)
