@@ -491,6 +491,46 @@ def test_page_edits_an_earlier_element_selected_in_the_list_or_by_a_click(page):
     assert page.dim_fields["AB"].value == "95"
 
 
+def test_page_a_draft_point_dragged_moves_its_element(page):
+    ed = page.editing
+    page.kind_select.value = "four-bar"  # its O2 is a pivot that drags
+    ground_length = page.state.values["ground"]
+    ed.new_linkage()
+    ed.click(0.0, 0.0)
+    ed.click(100.0, 0.0)
+    ed.step.value = "crank"
+    ed.p1.value = "O1"
+    ed.click(0.0, 30.0)
+    assert ed.src_draft.data["name"] == ["O1", "O2", "A"]  # no group yet: drawn as a draft
+
+    def drag(name, x, y):
+        data = {k: list(v) for k, v in ed.src_draft.data.items()}
+        i = data["name"].index(name)
+        data["x"][i], data["y"][i] = x, y
+        ed.src_draft.data = data
+
+    drag("A", 40.0, 0.0)  # mm: the crank 40 mm long at phase 0
+    assert ed.draft.dims_of("A") == {"O1A": (0.04, "m"), "phase": (0.0, "rad")}
+    assert "A moved" in ed.message.object and ed.element.value == "A"
+    assert ed.src_draft.data["x"][2] == pytest.approx(40.0) and ed.src_draft.data["y"][2] == 0.0
+    # the tool drags every point under the pointer: while the draft is drawn over the page's
+    # mechanism, its pivots stay (the four-bar's O2 dragged with a draft's point over it)
+    ground = {k: list(v) for k, v in page.src_ground.data.items()}
+    assert ground["name"] == ["O1", "O2"]
+    ground["x"][1] += 5.0
+    page.src_ground.data = ground
+    assert page.state.values["ground"] == ground_length
+    assert page.src_ground.data["x"][1] == ground["x"][1] - 5.0
+    drag("O1", 100.0, 0.0)  # onto O2: the crank's pin stays, O1 goes
+    assert ed.draft.dims_of("O1") == {"O1_x": (0.1, "m"), "O1_y": (0.0, "m")}
+    ed.undo()
+    assert ed.draft.dims_of("O1") == {"O1_x": (0.0, "m"), "O1_y": (0.0, "m")}
+    # a point dropped where its element cannot go: back, saying why
+    drag("A", 0.0, 0.0)  # onto its pivot: a crank of length 0
+    assert "cannot move A: crank: click away from O1" in ed.message.object
+    assert ed.src_draft.data["x"][2] == pytest.approx(40.0)
+
+
 def test_page_drags_a_crank_pin_and_snaps_back_with_the_reason(page):
     ed = page.editing
 
@@ -825,10 +865,29 @@ def test_browser_an_earlier_group_selected_moved_retyped_and_deleted(page_b):
         "() => Bokeh.documents[0].get_model_by_name('draft').data_source.data.name.join()"
         " === 'O1,O2'", timeout=60_000,
     )  # fmt: skip
+    # a point of the draft dragged: that element moves there
+    _still(page)
+    x, y = page.evaluate(
+        "() => { const d = Bokeh.documents[0], f = d.get_model_by_name('drawing');"
+        " const v = Bokeh.index.find_one(f), r = v.canvas_view.el.getBoundingClientRect();"
+        " const D = d.get_model_by_name('draft').data_source.data, i = D.name.indexOf('O2');"
+        " return [r.left + v.frame.x_scale.compute(D.x[i]),"
+        " r.top + v.frame.y_scale.compute(D.y[i])]; }"
+    )
+    page.mouse.move(x, y)
+    page.mouse.down()
+    page.mouse.move(x, y - 10, steps=4)
+    page.mouse.move(x, y - 20, steps=4)
+    page.mouse.up()
+    expect(message).to_contain_text("O2 moved", timeout=60_000)
+    o2 = tomllib.loads(page.locator("#editor-toml").inner_text())["ground"]["O2"]
+    assert o2[0] == pytest.approx(0.1, abs=2e-3) and o2[1] > 0.001  # m: moved up
+    page.get_by_role("button", name="Undo").click()
+    expect(page.locator("#editor-toml")).to_contain_text("O2 = [0.1, 0.0]", timeout=60_000)
     # undone: the five elements again, B where it was typed
     page.get_by_role("button", name="Undo").click()
+    expect(page.locator("#editor-toml")).to_contain_text('point = "C"', timeout=60_000)
     expect(page.get_by_label("AB, mm", exact=True)).to_have_value("95", timeout=60_000)
-    expect(page.locator("#editor-toml")).to_contain_text('point = "C"')
 
 
 @pytest.mark.browser

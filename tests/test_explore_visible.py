@@ -335,8 +335,10 @@ def test_the_animation_plays_in_the_browser(page):
 def test_motion_generation_shows_ranked_linkages_and_loads_one_over_its_targets(page):
     page.get_by_text("Synthesis", exact=True).click()
     page.get_by_role("button", name="Find linkages").click()
+    from playwright.sync_api import expect
+
     page.locator("#synth-table").wait_for(timeout=60_000)
-    assert "linkages through the 5 poses" in page.locator("#synth-state").inner_text()
+    expect(page.locator("#synth-state")).to_contain_text("linkages through the 5 poses")
     assert page.locator("#synth-table tr").count() == 13  # the header and 12 solutions
     page.get_by_role("button", name="Load into the editor").click()
     menu = page.get_by_label("Mechanism", exact=True)

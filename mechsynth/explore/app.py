@@ -937,6 +937,11 @@ class Explorer:
         ]
         if not moved or len(new.get("x", [])) != len(shown["x"]):
             return
+        if self.editing.draft_drawn():
+            # the draft's points are drawn over this mechanism: a drag moves them, not the
+            # pivot under them (the drawing's tool takes every point under the pointer)
+            self._later(self._show_ground)
+            return
         i = moved[0]
         name = shown["name"][i]
         st = self.state
@@ -1328,6 +1333,12 @@ class Explorer:
                 f"<td>{self._fmt(float(p['OA']), 'm')}</td>"
                 f"<td>{self._fmt(float(p['AB']), 'm')}</td></tr>"
             )
+        # the message first: when the table shows, the message says what it holds
+        self.synth_msg.object = (
+            f"<span id='synth-state'>{len(cands)} linkages through the {len(poses)} poses, "
+            "best first (defect-free first, then by their transmission angle): pick one and "
+            "load it to see it move over the targets</span>"
+        )
         self.synth_table.object = (
             "<table id='synth-table' style='font-size:13px'><tr><th>rank</th><th>kind</th>"
             "<th>defects</th><th>Grashof</th><th>min transmission angle, deg</th><th>crank</th>"
@@ -1336,11 +1347,6 @@ class Explorer:
         self.synth_pick.options = [str(i) for i in range(1, len(cands) + 1)]
         self.synth_pick.value = "1"
         self.synth_load.disabled = False
-        self.synth_msg.object = (
-            f"<span id='synth-state'>{len(cands)} linkages through the {len(poses)} poses, "
-            "best first (defect-free first, then by their transmission angle): pick one and "
-            "load it to see it move over the targets</span>"
-        )
         del st
 
     def _on_load_candidate(self, event=None):

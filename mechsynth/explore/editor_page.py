@@ -122,10 +122,14 @@ class Editing:
             "xs", "ys", source=self.src_draft_links, line_color="#999999", line_width=3,
             line_dash="dotted", name="draft-link-lines",
         )  # fmt: skip
-        app.fig.scatter(
+        draft = app.fig.scatter(
             "x", "y", source=self.src_draft, marker="circle", size=10, fill_color="#F0E442",
             line_color="black", name="draft",
         )  # fmt: skip
+        # a draft's point dragged moves that element (Draft.move)
+        app.drag_tool.renderers = [*app.drag_tool.renderers, draft]
+        self._draft_shown = None
+        self.src_draft.on_change("data", self._on_draft_dragged)
         app.fig.text(
             "x", "y", text="name", source=self.src_draft, x_offset=7, y_offset=-7,
             text_font_size="11px", name="draft-labels",
@@ -464,6 +468,40 @@ class Editing:
             return
         self._set_draft(new, f"{name} moved")
 
+    def draft_drawn(self) -> bool:
+        """Whether a draft's points are drawn over the page's mechanism (being built)."""
+        shown = self._draft_shown
+        return self.building and self.draft is not None and bool(shown and shown["name"])
+
+    def _on_draft_dragged(self, attr, old, new):
+        """A point of the draft (drawn while it does not assemble) dragged: that element moves
+        there (its dimensions from the drop), or the point goes back, saying why."""
+        shown, app = self._draft_shown, self.app
+        if shown is None or self.draft is None or new is shown:
+            return
+        names = list(new.get("name", []))
+        xs, ys = list(new.get("x", [])), list(new.get("y", []))
+        if names != shown["name"] or len(xs) != len(names) or len(ys) != len(names):
+            if len(xs) != len(shown["name"]):
+                app._later(self._show_draft)  # a point deleted on the drawing comes back
+            return
+        moved = [i for i in range(len(names)) if (xs[i], ys[i]) != (shown["x"][i], shown["y"][i])]
+        if len(moved) != 1:
+            return
+        i = moved[0]
+        f = app.state.display.factor("m")
+        app._later(self._drop_draft_point, names[i], float(xs[i]) * f, float(ys[i]) * f)
+
+    def _drop_draft_point(self, name, x, y):
+        try:
+            new = self.draft.move(name, x, y)
+        except MechanismError as exc:
+            self._show_draft()
+            self._say(f"cannot move {name}: {exc}", bad=True)
+            return
+        self.element.value = name
+        self._set_draft(new, f"{name} moved")
+
     def delete_element(self, name: str | None = None):
         """Delete the element chosen (and the elements placed from it), saying which."""
         name = name or self.element.value
@@ -536,6 +574,9 @@ class Editing:
 
     def _set_draft(self, d: Draft, did: str | None = None):
         app = self.app
+        if d == self.draft:  # e.g. a drag's first report, within the file's 6 digits: no step
+            self._show_draft()
+            return
         self.draft = d
         lk, message = d.check()
         if lk is None:
@@ -605,7 +646,8 @@ class Editing:
         self._show_controls()
         if d is None:
             self.toml.object = ""
-            self.src_draft.data = dict(x=[], y=[], name=[])
+            self._draft_shown = dict(x=[], y=[], name=[])
+            self.src_draft.data = dict(self._draft_shown)
             self.src_draft_links.data = dict(xs=[], ys=[])
             return
         points = list(d.points)
@@ -634,11 +676,12 @@ class Editing:
         assembled = self._draft_kind is not None and app.state.kind is self._draft_kind
         f = app.state.display.factor("m")
         places = {} if assembled else d.places()
-        self.src_draft.data = dict(
+        self._draft_shown = dict(
             x=[float(v[0]) / f for v in places.values()],
             y=[float(v[1]) / f for v in places.values()],
             name=list(places),
         )
+        self.src_draft.data = dict(self._draft_shown)
         xs, ys = [], []
         for s in d.steps:
             ends = _links(s)
