@@ -17,6 +17,7 @@ crank angle. Symbolic input is not checked (the optimizer's constraints keep it 
 from __future__ import annotations
 
 import functools
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -29,6 +30,7 @@ __all__ = [
     "crank",
     "crank_pin",
     "dyad_rrr",
+    "rrr_apart",
     "dyad_rrp",
     "dyad_rrp_on",
     "dyad_rpr",
@@ -125,10 +127,25 @@ def _failed(phi, *analogs):
     for x in analogs:
         if type(x) is not np.ndarray and ops.is_symbolic(x):
             return False
+    if len(analogs) == 2:  # one pass over both: their dot product is finite when they are
+        a, b = analogs
+        if (
+            type(a) is np.ndarray
+            and type(b) is np.ndarray
+            and a.shape == b.shape
+            and a.dtype is _FLOAT64
+            and b.dtype is _FLOAT64
+        ):
+            return not math.isfinite(_vdot(a, b))
     for x in analogs:
         if not ops.finite(x):
             return True
     return False
+
+
+#: numpy's float64 and its dot product (as :func:`mechsynth.validate.finite` calls it)
+_FLOAT64 = np.dtype(np.float64)
+_vdot = getattr(np.vdot, "__wrapped__", np.vdot)
 
 
 def _check_toggle(what, phi, *analogs):
@@ -253,11 +270,20 @@ _RRR_APART = "RRR dyad: distance between its pivots outside [|l1 - l2|, l1 + l2]
 _RRP_FAR = "RRP dyad: the point is farther from the guide than the link length"
 
 
+def rrr_apart(p1: PointJet, p2: PointJet):
+    """``(dx, dy, d2)``: the vector p1 -> p2 and its length squared (m, m^2), as
+    :func:`dyad_rrr` computes them (``dx`` is ``-p1.x`` where ``p2.x`` is the number 0)."""
+    dx, dy = ops.minus(p2.x, p1.x), ops.minus(p2.y, p1.y)
+    return dx, dy, dx * dx + dy * dy
+
+
 @_toggles_raise
-def dyad_rrr(p1: PointJet, p2: PointJet, l1, l2, branch=1, phi=None):
+def dyad_rrr(p1: PointJet, p2: PointJet, l1, l2, branch=1, phi=None, apart=None):
     """RRR dyad: joint C at distance ``l1`` from ``p1`` and ``l2`` from ``p2``.
 
     ``branch=+1`` puts C to the left of the directed line p1 -> p2, ``-1`` to the right.
+    ``apart``: :func:`rrr_apart` of ``p1, p2`` when the caller has it (a linkage's group
+    computes it for its assembly margin), not computed again.
 
     Returns
     -------
@@ -265,8 +291,11 @@ def dyad_rrr(p1: PointJet, p2: PointJet, l1, l2, branch=1, phi=None):
     theta1 : Jet of the angle of link p1 -> C.
     theta2 : Jet of the angle of link p2 -> C.
     """
-    dx, dy = ops.minus(p2.x, p1.x), ops.minus(p2.y, p1.y)
-    d2 = dx * dx + dy * dy
+    if apart is None:  # rrr_apart's lines (the compiled kernels compile this code alone)
+        dx, dy = ops.minus(p2.x, p1.x), ops.minus(p2.y, p1.y)
+        d2 = dx * dx + dy * dy
+    else:
+        dx, dy, d2 = apart
     a = (l1 * l1 - l2 * l2 + d2) / (2.0 * d2)  # fraction of p1->p2 to the foot of C
     q = l1 * l1 / d2
     h2 = q - a * a  # (height of C above the line / d)^2
@@ -336,12 +365,25 @@ def _rrp_slide(t, hgt, t1, h1, t2, h2, length, branch, phi):
 
 
 @_toggles_raise
-def dyad_rrp(p: PointJet, length, guide_x=0.0, guide_y=0.0, guide_angle=0.0, branch=1, phi=None):
+def dyad_rrp(
+    p: PointJet,
+    length,
+    guide_x=0.0,
+    guide_y=0.0,
+    guide_angle=0.0,
+    branch=1,
+    phi=None,
+    height=None,
+):
     """RRP dyad: a link of ``length`` from the moving point ``p`` to a slider B on a fixed straight
     guide through (guide_x, guide_y) with direction ``guide_angle`` (rad from +x).
 
     ``branch=+1`` puts B ahead of the foot of ``p`` along the guide direction, ``-1`` behind it.
-    (:func:`dyad_rrp_on` is the same dyad on a guide carried by a moving link.)
+    (:func:`dyad_rrp_on` is the same dyad on a guide carried by a moving link.) ``height``: the
+    signed height of ``p`` over the guide, ``(p - G) . n`` with ``n`` the guide's left normal
+    (equal to this function's bit for bit), when the caller has it (a linkage's group, for
+    its assembly margin): not computed again; a guide along +x (``guide_angle`` the number 0)
+    takes ``p.y - guide_y`` itself.
 
     Returns
     -------
@@ -362,7 +404,8 @@ def dyad_rrp(p: PointJet, length, guide_x=0.0, guide_y=0.0, guide_angle=0.0, bra
         t, hgt, t1, h1, t2, h2 = rx, ry, p.dx, p.dy, p.ddx, p.ddy
     else:
         ux, uy = ops.cos(guide_angle), ops.sin(guide_angle)
-        t, hgt = rx * ux + ry * uy, ry * ux - rx * uy  # foot along the guide, signed height
+        t = rx * ux + ry * uy  # foot along the guide
+        hgt = ry * ux - rx * uy if height is None else height  # signed height
         t1, h1 = p.dx * ux + p.dy * uy, p.dy * ux - p.dx * uy
         t2, h2 = p.ddx * ux + p.ddy * uy, p.ddy * ux - p.ddx * uy
     s, w, nw, a1, aa = _rrp_slide(t, hgt, t1, h1, t2, h2, length, branch, phi)

@@ -37,6 +37,7 @@ Conventions (see ``docs/linkages.md``)
 
 from __future__ import annotations
 
+import math
 import numbers
 import re
 from collections.abc import Mapping
@@ -46,6 +47,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import MechanismError
+from ..validate import finite
 from . import ops
 from .curves import Curve
 from .linkage_groups import (
@@ -66,7 +68,7 @@ from .linkage_groups import (
     _State,
 )
 from .mechanism import Drawable, check_finite, check_length, guard_motion, speed_pair
-from .tracks import LinkTrack, Motion, PointJet, PointTrack, SliderTrack
+from .tracks import Motion, PointJet, PointTrack, _as_tracks
 
 __all__ = ["Linkage", "Param", "Topology", "GuideLine", "Profile"]
 
@@ -190,6 +192,32 @@ class Topology:
 _KERNEL_MODULE: list = [None]  # linkage_kernels, once imported
 
 
+@dataclass(frozen=True)
+class _Plan:
+    """What a motion reads of a linkage's structure, derived once per structure (when the
+    linkage is made) instead of at every motion.
+
+    Attributes
+    ----------
+    crank : the driver's point (its track gives the motion's shape).
+    frame_points : the ground points (their jets hold numbers: made tracks of that shape).
+    main_slider : the output group's slider or block (``motion.slider``), or None.
+    out_key : the output group's key (its pressure angle is ``motion.pressure_angle``).
+    """
+
+    crank: str
+    frame_points: tuple[str, ...]
+    main_slider: str | None
+    out_key: str
+
+    @classmethod
+    def of(cls, lk: Linkage) -> _Plan:
+        out_group = lk._group_of(lk.default_output)
+        main = getattr(out_group, "slider", None) or getattr(out_group, "block", None)
+        frame = tuple(p for p, _, _ in lk._ground)
+        return cls(lk._groups[0].key, frame, main, out_group.key)
+
+
 class Linkage(Drawable):
     """A planar linkage: ground points, a driver (a crank or a driving slider) and groups in
     solving order.
@@ -271,6 +299,13 @@ class Linkage(Drawable):
         self._members = {k: tuple(v) for k, v in members.items()}
         # the (designs x angles) arrays a motion holds at its peak, for its memory guard
         self._motion_arrays = 12 * (len(self.points) + len(bodies)) + 8
+        values = self._values.values()
+        self._symbolic = ops.is_symbolic(*values)
+        # what the memory guard of a motion reads: no parameter of a design of numbers is a
+        # batch (the guard's loop over them left out)
+        plain = all(type(x) is float or type(x) is int for x in values)
+        self._guarded = {} if plain else self._values
+        self._plan = _Plan.of(self) if self._groups else None
         self._frozen = True
         return self
 
@@ -894,7 +929,7 @@ class Linkage(Drawable):
 
     @property
     def is_symbolic(self) -> bool:
-        return ops.is_symbolic(*self._values.values())
+        return self._symbolic
 
     def describe(self) -> str:
         """A readable listing of the groups and the parameters with their values."""
@@ -1000,9 +1035,10 @@ class Linkage(Drawable):
             )
         v = self._values
         st = _State(phi, v, strict, self._bodies, hold)
+        points = st.points
         for p, x, y in self._ground:
-            st.points[p] = PointJet(v[x], v[y], 0.0, 0.0, 0.0, 0.0)
-        with np.errstate(invalid="ignore", divide="ignore") if not strict else _nullcontext():
+            points[p] = PointJet(v[x], v[y], 0.0, 0.0, 0.0, 0.0)
+        with np.errstate(invalid="ignore", divide="ignore") if not strict else _NULL:
             for g in self._groups:
                 try:
                     g.solve(st)
@@ -1099,11 +1135,15 @@ class Linkage(Drawable):
                 phi = np.asarray(phi, dtype=float) if np.ndim(phi) else float(phi)
             except (TypeError, ValueError):
                 raise MechanismError(f"phi must be {self._input_words()}, got {phi!r}") from None
-            if not np.isfinite(phi).all():
+            if not (
+                math.isfinite(phi)
+                if type(phi) is float
+                else (phi.dtype is _FLOAT64 and finite(phi)) or np.isfinite(phi).all()
+            ):
                 raise MechanismError(f"phi must be finite {self._input_words()}")
-            if not self.is_symbolic:  # refuse up front what would not fit in memory
+            if not self._symbolic:  # refuse up front what would not fit in memory
                 guard_motion(
-                    self._values,
+                    self._guarded,
                     phi if isinstance(phi, np.ndarray) else np.asarray(phi),
                     omega,
                     eps,
@@ -1136,41 +1176,38 @@ class Linkage(Drawable):
         motion_omega, motion_eps = omega, eps
         if scaled:
             omega, eps = 1.0, 0.0
-        crank_key = self._groups[0].key
-        zero = 0.0 * st.points[crank_key].x
-        points = {}
-        owner = self._owner
-        for name, p in st.points.items():
+        plan = self._plan
+        zero = 0.0 * st.points[plan.crank].x
+        points = st.points
+        if not scaled:
             # a frame point's jet holds its coordinates (numbers): made tracks of the motion's
             # shape (a kernel's rows are full tracks already), at rest (no scaling of zeros)
-            if not scaled and owner.get(name) == FRAME:
-                points[name] = PointTrack.of(p.x + zero, p.y + zero, zero, zero, zero, zero)
-            else:
-                points[name] = PointTrack.from_jet(p, omega, eps)
-        links = {name: LinkTrack.from_jet(j, omega, eps) for name, j in st.links.items()}
-        out_group = self._group_of(self.default_output)
-        sliders = {k: SliderTrack.from_jet(j, omega, eps) for k, j in st.sliders.items()}
-        main = getattr(out_group, "slider", None) or getattr(out_group, "block", None)
-        if main in sliders:
+            points = dict(points)
+            of = PointTrack.of
+            for name in plan.frame_points:
+                p = points[name]
+                points[name] = of(p.x + zero, p.y + zero, zero, zero, zero, zero)
+        sliders = st.sliders
+        main = plan.main_slider
+        if main in sliders and next(iter(sliders)) != main:
             sliders = {main: sliders[main], **{k: s for k, s in sliders.items() if k != main}}
-        key = out_group.key if out_group.key in st.pressure else None
-        if key is None and st.pressure:
-            key = next(reversed(st.pressure))
-        pressure = st.pressure[key] if key is not None else zero
+        tracks = _as_tracks(points, st.links, sliders, omega, eps)
+        pressures = st.pressure
+        key = plan.out_key if plan.out_key in pressures else None
+        if key is None and pressures:
+            key = next(reversed(pressures))
+        pressure = pressures[key] if key is not None else zero
         transmission = st.transmission[key] if key is not None else None
-        extra = {"assembly margins": st.margins, **st.extra}
-        return Motion(
-            phi=phi,
-            omega=motion_omega,
-            epsilon=motion_eps,
-            points=points,
-            links=links,
-            pressure_angle=pressure,
-            sliders=sliders,
-            raw_transmission_angle=transmission,
-            extra=extra,
-            pressure_angles=dict(st.pressure),
-            raw_transmission_angles=dict(st.transmission),
+        return Motion._of_tracks(
+            phi,
+            motion_omega,
+            motion_eps,
+            tracks,
+            pressure,
+            transmission,
+            {"assembly margins": st.margins, **st.extra},
+            dict(pressures),
+            dict(st.transmission),
         )
 
     def _input_words(self) -> str:
@@ -1426,6 +1463,13 @@ class _nullcontext:
 
     def __exit__(self, *exc):
         return False
+
+
+#: numpy's float64 (the dtype of the angles a motion tests in one pass)
+_FLOAT64 = np.dtype(np.float64)
+
+#: the context of a strict solve (numpy's warnings as the caller has them): one, made once
+_NULL = _nullcontext()
 
 
 #: how the blocks name the input where they fail (a driving slider's input is a length)

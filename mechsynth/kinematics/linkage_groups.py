@@ -34,6 +34,7 @@ from .blocks import (
     dyad_rrp_on,
     dyad_rrr,
     link_angle,
+    rrr_apart,
 )
 from .tracks import Jet, PointJet
 
@@ -199,11 +200,10 @@ _HOLD = 1e-9
 
 # The groups' per-angle formulas beside the blocks (margins, angles), written with ops on scalars
 # or arrays so that a compiled chain could call them as it calls the blocks.
-def rrr_margin(p1, p2, l1, l2):
-    """sin^2 of the angle between an RRR dyad's links, from the distance of its pivots:
+def rrr_margin(d2, l1, l2):
+    """sin^2 of the angle between an RRR dyad's links, from the distance squared ``d2`` of its
+    pivots (:func:`~mechsynth.kinematics.blocks.rrr_apart`):
     ``((l1+l2)^2 - d^2)(d^2 - (l1-l2)^2) / (4 l1^2 l2^2)``; negative where it cannot close."""
-    dx, dy = p2.x - p1.x, p2.y - p1.y
-    d2 = dx * dx + dy * dy
     return ((l1 + l2) ** 2 - d2) * (d2 - (l1 - l2) ** 2) / (4.0 * l1 * l1 * l2 * l2)
 
 
@@ -416,17 +416,22 @@ class RRRGroup(Group):
         v = st.v
         p1, p2 = st.points[self.first], st.points[self.second]
         l1, l2 = self.p(v, "l1"), self.p(v, "l2")
-        margin = rrr_margin(p1, p2, l1, l2)
+        apart = rrr_apart(p1, p2)  # the dyad's own, shared with its margin
+        margin = rrr_margin(apart[2], l1, l2)
         st.margins[self.key] = margin
-        moved = None
-        if ops.is_symbolic(margin):
-            dx, dy = p2.x - p1.x, p2.y - p1.y
-            d = ops.sqrt(dx * dx + dy * dy)
-            lo, hi = ops.fabs(l1 - l2) + _HOLD * (l1 + l2), (l1 + l2) * (1.0 - _HOLD)
-            k = ops.fmin(ops.fmax(d, lo), hi) / d
-            moved = (p2.x - k * dx, p2.y - k * dy)
-        p1 = st.relax(p1, margin, moved)
-        c, t1, t2 = dyad_rrr(p1, p2, l1, l2, self.branch, phi=st.check_phi)
+        if st.strict and not ops.is_symbolic(margin):  # numbers, checked: p1 as it is
+            c, t1, t2 = dyad_rrr(p1, p2, l1, l2, self.branch, phi=st.phi, apart=apart)
+        else:
+            moved = None
+            if ops.is_symbolic(margin):
+                dx, dy = p2.x - p1.x, p2.y - p1.y
+                d = ops.sqrt(dx * dx + dy * dy)
+                lo, hi = ops.fabs(l1 - l2) + _HOLD * (l1 + l2), (l1 + l2) * (1.0 - _HOLD)
+                k = ops.fmin(ops.fmax(d, lo), hi) / d
+                moved = (p2.x - k * dx, p2.y - k * dy)
+            held = st.relax(p1, margin, moved)
+            apart = apart if held is p1 else None
+            c, t1, t2 = dyad_rrr(held, p2, l1, l2, self.branch, phi=st.check_phi, apart=apart)
         st.points[self.key] = c
         st.links[self.links[0]] = t1
         st.links[self.links[1]] = t2
@@ -486,14 +491,18 @@ class RRPGroup(Group):
         hgt = guide_height(p, g.x, g.y, theta.value)  # of the rod's start over the guide
         margin = rrp_margin(hgt, length)
         st.margins[self.key] = margin
-        moved = None
-        if ops.is_symbolic(margin):
-            lim = length * (1.0 - _HOLD)
-            shift = ops.fmin(ops.fmax(hgt, -lim), lim) - hgt
-            moved = (p.x - shift * ops.sin(theta.value), p.y + shift * ops.cos(theta.value))
-        p = st.relax(p, margin, moved)
+        if not st.strict or ops.is_symbolic(margin):  # (numbers, checked: p as it is)
+            moved = None
+            if ops.is_symbolic(margin):
+                lim = length * (1.0 - _HOLD)
+                shift = ops.fmin(ops.fmax(hgt, -lim), lim) - hgt
+                moved = (p.x - shift * ops.sin(theta.value), p.y + shift * ops.cos(theta.value))
+            p = st.relax(p, margin, moved)
         if fixed is not None:
-            b, slide, rod = dyad_rrp(p, length, *fixed, self.branch, st.check_phi)
+            # the height over the guide is the dyad's own where p was not moved (the sum of the
+            # same two products, in the other order)
+            held = hgt if p is st.points[self.start] else None
+            b, slide, rod = dyad_rrp(p, length, *fixed, self.branch, st.check_phi, held)
         else:
             b, slide, rod = dyad_rrp_on(p, length, g, theta, self.branch, st.check_phi)
         zero = 0.0 * b.x
@@ -551,13 +560,14 @@ class RPRGroup(Group):
         off = self.p(v, "offset")
         margin = rpr_margin(p, q, off)
         st.margins[self.key] = margin
-        moved = None
-        if ops.is_symbolic(margin):
-            rx, ry = p.x - q.x, p.y - q.y
-            rho = ops.sqrt(rx * rx + ry * ry + 1e-300)
-            k = ops.fmax(rho, ops.fabs(off) * (1.0 + _HOLD) + 1e-300) / rho
-            moved = (q.x + k * rx, q.y + k * ry)
-        p = st.relax(p, margin, moved)
+        if not st.strict or ops.is_symbolic(margin):  # (numbers, checked: p as it is)
+            moved = None
+            if ops.is_symbolic(margin):
+                rx, ry = p.x - q.x, p.y - q.y
+                rho = ops.sqrt(rx * rx + ry * ry + 1e-300)
+                k = ops.fmax(rho, ops.fabs(off) * (1.0 + _HOLD) + 1e-300) / rho
+                moved = (q.x + k * rx, q.y + k * ry)
+            p = st.relax(p, margin, moved)
         th, s = dyad_rpr_on(p, q, off, self.branch, st.check_phi)
         st.links[self.key] = th
         st.links[self.block] = th

@@ -246,6 +246,68 @@ class _Sliders(Tracks):
     what = "slider"
 
 
+def _as_tracks(points, links, sliders, omega, epsilon):
+    """The named jets ``points`` (:class:`PointJet`), ``links`` and ``sliders`` (:class:`Jet`)
+    as a motion's three :class:`Tracks` dicts at the crank speed ``omega`` and acceleration
+    ``epsilon`` (a track given instead of a jet is kept as it is). Each track's fields are
+    those its ``from_jet`` gives, made without the frozen dataclasses' ``__init__`` (see
+    :func:`_point_track`) and, for a number ``omega`` and no ``epsilon``, without a call per
+    track: a motion of one design makes a track per point and link, and those calls were a
+    good part of its time."""
+    pt, lt, st = PointTrack, LinkTrack, SliderTrack
+    points, links, sliders = _Points(points), _Links(links), _Sliders(sliders)
+    if not (type(epsilon) is float and epsilon == 0.0 and type(omega) is float):
+        for k, p in points.items():
+            if type(p) is not pt:
+                points[k] = pt.from_jet(p, omega, epsilon)
+        for k, j in links.items():
+            if type(j) is not lt:
+                links[k] = lt.from_jet(j, omega, epsilon)
+        for k, j in sliders.items():
+            if type(j) is not st:
+                sliders[k] = st.from_jet(j, omega, epsilon)
+        return points, links, sliders
+    if omega == 1.0:  # the analogs themselves
+        for k, p in points.items():
+            if type(p) is not pt:
+                points[k] = t = _new(pt)
+                d = t.__dict__
+                d["x"], d["y"], d["vx"], d["vy"], d["ax"], d["ay"] = p
+        for k, j in links.items():
+            if type(j) is not lt:
+                links[k] = t = _new(lt)
+                d = t.__dict__
+                d["angle"], d["omega"], d["epsilon"] = j
+        for k, j in sliders.items():
+            if type(j) is not st:
+                sliders[k] = t = _new(st)
+                d = t.__dict__
+                d["position"], d["velocity"], d["acceleration"] = j
+        return points, links, sliders
+    # from_jet's and to_time's second branch: analogs times omega, second ones times omega^2
+    w2 = omega * omega
+    for k, p in points.items():
+        if type(p) is not pt:
+            points[k] = t = _new(pt)
+            d = t.__dict__
+            x, y, dx, dy, ddx, ddy = p
+            d["x"], d["y"], d["vx"], d["vy"] = x, y, dx * omega, dy * omega
+            d["ax"], d["ay"] = ddx * w2, ddy * w2
+    for k, j in links.items():
+        if type(j) is not lt:
+            links[k] = t = _new(lt)
+            d = t.__dict__
+            a, d1, d2 = j
+            d["angle"], d["omega"], d["epsilon"] = a, d1 * omega, d2 * w2
+    for k, j in sliders.items():
+        if type(j) is not st:
+            sliders[k] = t = _new(st)
+            d = t.__dict__
+            a, d1, d2 = j
+            d["position"], d["velocity"], d["acceleration"] = a, d1 * omega, d2 * w2
+    return points, links, sliders
+
+
 @dataclass(frozen=True)
 class Motion:
     """Motion of a mechanism over the crank angles ``phi``.
@@ -318,42 +380,34 @@ class Motion:
         ``extra``, ``pressure_angles`` and ``raw_transmission_angles``: where the named mechanisms'
         motions end. The three dicts are copied into :class:`Tracks`, the motion's own. Built
         without the frozen dataclasses' ``__init__`` (see :func:`_point_track`)."""
-        pt, lt, st = PointTrack, LinkTrack, SliderTrack
-        points, links, sliders = _Points(points), _Links(links), _Sliders(sliders)
-        if type(epsilon) is float and epsilon == 0.0 and type(omega) is float and omega == 1.0:
-            # the analogs themselves, unpacked into the tracks' fields here (as _point_track,
-            # _link_track and _slider_track do: one call less per track)
-            for k, p in points.items():
-                if type(p) is not pt:
-                    points[k] = t = _new(pt)
-                    d = t.__dict__
-                    d["x"], d["y"], d["vx"], d["vy"], d["ax"], d["ay"] = p
-            for k, j in links.items():
-                if type(j) is not lt:
-                    links[k] = t = _new(lt)
-                    d = t.__dict__
-                    d["angle"], d["omega"], d["epsilon"] = j
-            for k, j in sliders.items():
-                if type(j) is not st:
-                    sliders[k] = t = _new(st)
-                    d = t.__dict__
-                    d["position"], d["velocity"], d["acceleration"] = j
-        else:
-            for k, p in points.items():
-                if type(p) is not pt:
-                    points[k] = pt.from_jet(p, omega, epsilon)
-            for k, j in links.items():
-                if type(j) is not lt:
-                    links[k] = lt.from_jet(j, omega, epsilon)
-            for k, j in sliders.items():
-                if type(j) is not st:
-                    sliders[k] = st.from_jet(j, omega, epsilon)
+        tracks = _as_tracks(points, links, sliders, omega, epsilon)
+        return cls._of_tracks(
+            phi, omega, epsilon, tracks, pressure_angle, raw_transmission_angle, {}, {}, {}
+        )
+
+    @classmethod
+    def _of_tracks(
+        cls,
+        phi,
+        omega,
+        epsilon,
+        tracks,
+        pressure_angle,
+        raw_transmission_angle,
+        extra,
+        pressure_angles,
+        raw_transmission_angles,
+    ) -> Motion:
+        """The motion of the three :class:`Tracks` ``tracks`` (of :func:`_as_tracks`) and the
+        dicts given (held, not copied), without the dataclass's ``__init__`` and
+        ``__post_init__``: what :meth:`Motion` makes of the same arguments."""
         m = _new(cls)
         d = m.__dict__
         d["phi"], d["omega"], d["epsilon"] = phi, omega, epsilon
-        d["points"], d["links"], d["pressure_angle"] = points, links, pressure_angle
-        d["sliders"], d["raw_transmission_angle"] = sliders, raw_transmission_angle
-        d["extra"], d["pressure_angles"], d["raw_transmission_angles"] = {}, {}, {}
+        d["points"], d["links"], d["sliders"] = tracks
+        d["pressure_angle"], d["raw_transmission_angle"] = pressure_angle, raw_transmission_angle
+        d["extra"], d["pressure_angles"] = extra, pressure_angles
+        d["raw_transmission_angles"] = raw_transmission_angles
         return m
 
     @property
