@@ -84,6 +84,16 @@ def test_prescribed_timing_recovers_design_and_keeps_the_angle_steps():
     _check_independently(r.best, pts)
 
 
+def test_prescribed_timing_starts_that_keep_the_timing_reach_the_exact_four_bar():
+    """Six points at crank angles 0.1 .. 3.8 rad: the atlas's shape-matched starts all ended
+    at a local optimum (sum of squares 1.15e-6 m^2 with 6 or 12 starts); starts fitted at the
+    prescribed angle steps (path_atlas.seed_timed) reach the four-bar through the points."""
+    pts, _, angles = exact_case(6)
+    r = ms.path_generation(pts, timing="prescribed", angles=angles, starts=6, progress=False)
+    assert r.error < 1e-20
+    np.testing.assert_allclose(np.diff(r.angles), np.diff(angles), atol=1e-12)
+
+
 def test_linkage_and_positions_agree(exact):
     pts, _, _, r = exact
     pos = r.positions

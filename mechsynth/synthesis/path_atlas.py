@@ -298,3 +298,51 @@ def seed(targets, count: int = 16, min_mu: float = 0.0, pool: int | None = None)
             )
     out.sort(key=lambda s: s.fit)
     return out[:count]
+
+
+def seed_timed(targets, given, count: int = 16, min_mu: float = 0.0, phases: int = 24,
+               block: int = 2000) -> list[Seed]:
+    """Starts for prescribed timing: the targets ``(N, 2)`` reached at crank angles
+    ``phi0 + given`` (rad). Every atlas curve is sampled at those angles for ``phases`` values
+    of ``phi0`` over a turn; the similarity (rotation, scale, shift) that best maps each sample
+    set onto the targets is solved in closed form (complex least squares), and the ``count``
+    curves with the smallest residual, each at its best ``phi0``, are placed by it. Unlike
+    :func:`seed`, which matches shapes at the points' arc fractions, this keeps the timing the
+    solver must keep. Entries whose smallest transmission angle is below ``min_mu`` are
+    skipped."""
+    at = atlas()
+    t = np.asarray(targets, dtype=float)
+    zt = t[:, 0] + 1j * t[:, 1]
+    zt = zt - zt.mean()
+    tt = float(np.sum(np.abs(zt) ** 2))
+    d = np.asarray(given, dtype=float) - float(given[0])
+    phi0 = np.linspace(0.0, 2.0 * np.pi, int(phases), endpoint=False)
+    ang = (phi0[:, None] + d[None, :]).ravel()  # (phases * N,)
+    rows = np.flatnonzero(at.mu_min >= min_mu) if min_mu > 0 else np.arange(len(at))
+    best_res = np.empty(rows.size)
+    best_k = np.empty(rows.size, dtype=complex)
+    best_p = np.empty(rows.size, dtype=int)
+    for s in range(0, rows.size, block):
+        r = rows[s : s + block]
+        c = coupler_curves(at.designs[r], at.branch[r], ang).reshape(len(r), phases, len(t), 2)
+        zc = c[..., 0] + 1j * c[..., 1]
+        zc = zc - zc.mean(axis=-1, keepdims=True)
+        num = np.sum(np.conj(zc) * zt, axis=-1)
+        den = np.maximum(np.sum(np.abs(zc) ** 2, axis=-1), 1e-300)
+        res = tt - np.abs(num) ** 2 / den  # (designs, phases)
+        res = np.where(np.isfinite(res), res, np.inf)
+        p = np.argmin(res, axis=1)
+        i = np.arange(len(r))
+        best_res[s : s + block], best_p[s : s + block] = res[i, p], p
+        best_k[s : s + block] = num[i, p] / den[i, p]
+    out = []
+    for j in np.argsort(best_res)[:count]:
+        if not np.isfinite(best_res[j]):
+            break
+        i = rows[j]
+        angles = phi0[best_p[j]] + d
+        pts = coupler_curves(at.designs[i : i + 1], at.branch[i : i + 1], angles)[0]
+        scale, angle, shift, res = _similarity(pts, t)
+        out.append(Seed(at.designs[i] * scale, int(at.branch[i]), float(shift[0]),
+                        float(shift[1]), angle, angles, 0.0, res))  # fmt: skip
+    return out

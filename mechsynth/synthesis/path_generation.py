@@ -40,6 +40,7 @@ bound with prescribed timing (``bound=``) :mod:`.path_bound`'s. See ``docs/path_
 from __future__ import annotations
 
 import functools
+import itertools
 import time
 
 import numpy as np
@@ -566,10 +567,19 @@ def _path_generation(
         else:
             nb[name] = (lo, hi)
 
-    from .path_atlas import seed
+    from .path_atlas import seed, seed_timed
     from .path_measures import check_constraints, solve_with_peaks
 
-    seeds = seed(tn, count=starts, min_mu=max(0.0, min_mu - np.deg2rad(10.0)))
+    mu_seed = max(0.0, min_mu - np.deg2rad(10.0))
+    if timing == "prescribed":
+        # shape matches and starts that keep the timing (the atlas curves at the prescribed
+        # angle steps) in turn: each kind finds exact solutions the other misses
+        shaped = seed(tn, count=starts, min_mu=mu_seed)
+        timed = seed_timed(tn, given, count=starts, min_mu=mu_seed) if starts > 1 else []
+        seeds = [s for pair in itertools.zip_longest(shaped, timed) for s in pair if s]
+        seeds = seeds[:starts]
+    else:
+        seeds = seed(tn, count=starts, min_mu=mu_seed)
     nphi = n if timing == "free" else 1
     P = np.concatenate([tn.ravel(), [np.cos(min_mu), margin], given])
     found: list[PathSolution] = []
