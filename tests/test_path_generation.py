@@ -574,3 +574,17 @@ def test_clockwise_crank_on_the_18_point_path():
     assert np.rad2deg(r.transmission[0]) == pytest.approx(64.71, abs=0.01)
     assert np.all(np.diff(r.angles) <= 1e-9)  # clockwise
     _check_independently(r.best, case.targets, min_mu=ms.deg(24.7))
+
+
+@pytest.mark.slow
+def test_a_guide_slid_along_its_own_line_is_one_optimum_not_two():
+    """The slider-crank template places its guide by a point and an angle: a point slid along
+    the line is the same mechanism, and the two starts that found it were listed as two
+    distinct optima with equal errors."""
+    pts = np.array([[0.0614, 0.1670], [0.0546, 0.2177], [0.0010, 0.2246], [-0.0503, 0.1815],
+                    [-0.0761, 0.1141], [-0.0620, 0.0366]])  # fmt: skip
+    angles = np.deg2rad([5.7, 40.1, 85.9, 126.1, 166.2, 217.7])
+    r = ms.path_generation(pts, mechanism="slider-crank", timing="prescribed", angles=angles,
+                           starts=2, progress=False)  # fmt: skip
+    assert r.success and r.distinct == len(r.solutions) == 1
+    assert "largest" in r.summary() and "coupler-rocker" not in r.summary()

@@ -781,12 +781,31 @@ def _general(t, mechanism, trace, variables, bounds, timing, given, min_mu, obje
 
 
 def _same_values(a, b, rtol=1e-4) -> bool:
-    """Two general-linkage solutions are one optimum: same error, same dimensions."""
+    """Two general-linkage solutions are one optimum: same error, and the same dimensions or
+    the same motion (every moving point on the same path at the same crank angles: a guide's
+    reference point slid along its own line is the same mechanism)."""
     if abs(a.error - b.error) > rtol * max(abs(a.error), abs(b.error)) + 1e-14:
         return False
     x = np.array(list(a.values.values()))
     y = np.array(list(b.values.values()))
-    return bool(np.abs(x - y).max() <= 1e-3 * max(np.abs(x).max(), 1e-300))
+    if np.abs(x - y).max() <= 1e-3 * max(np.abs(x).max(), 1e-300):
+        return True
+    phi = np.linspace(0.0, 2.0 * np.pi, 36, endpoint=False)
+    try:
+        pa = a.linkage.motion(a.angles[0] + phi).points
+        pb = b.linkage.motion(b.angles[0] + phi).points
+    except MechanismError:
+        return False
+    size = max(float(np.abs(x).max()), 1e-300)
+    for name in pa:
+        if name not in pb:
+            return False
+        ax, ay = np.broadcast_to(pa[name].x, phi.shape), np.broadcast_to(pa[name].y, phi.shape)
+        if np.ptp(ax) == 0.0 and np.ptp(ay) == 0.0:
+            continue  # a ground point: its place is the dimensions', compared by the motion
+        if max(np.abs(ax - pb[name].x).max(), np.abs(ay - pb[name].y).max()) > 1e-4 * size:
+            return False
+    return True
 
 
 def _slider_crank_variables(t):

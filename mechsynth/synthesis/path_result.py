@@ -231,7 +231,9 @@ class PathResult:
             lines.append(
                 f"#{k}: error {s.error:.6g}{unit} (sum of squares {s.sum_squares:.6g}, largest "
                 f"distance {s.max_distance:.4g} m), min transmission angle {mu0:.2f} deg "
-                f"(coupler-rocker angle up to {mu1:.2f} deg), "
+                + ("(coupler-rocker angle up to " if isinstance(s, PathSolution)
+                   else "(largest ")
+                + f"{mu1:.2f} deg), "
                 f"{s.branch or 'linkage'}" + (f", {s.note}" if s.note else "")
             )
         b = self.best
