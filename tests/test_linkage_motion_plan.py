@@ -91,6 +91,12 @@ def test_the_pair_test_finds_a_non_finite_analog_anywhere(bad):
     hit = zeros.copy()
     hit[5] = bad
     assert blocks._failed(phi, hit, zeros) and blocks._failed(phi, zeros, hit)
+    # a batch's analogs past one design's grid: each tested on its own (no threaded BLAS)
+    rows = np.zeros((30, 360))
+    assert not blocks._failed(phi, rows, rows)
+    late = rows.copy()
+    late[29, 359] = bad
+    assert blocks._failed(phi, rows, late) and blocks._failed(phi, late, rows)
     # finite analogs whose products overflow: looked at closer, and no toggle is reported
     huge = np.full(360, 1e200)
     assert blocks._failed(phi, huge, huge)
