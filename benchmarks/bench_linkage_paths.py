@@ -329,24 +329,31 @@ def pylinkage_check(lk):
 
 
 # ---------------------------------------------------------------------------- timing
-def timed(fn, repeat):
-    """The median CPU time of one call of ``fn`` over ``repeat`` samples, each sample as many
-    calls as take some 20 ms (a call of tens of microseconds timed alone reads its cold caches
-    and the clock's own cost), after one call. CPU time: every path runs on one thread, and on
-    a shared machine the process's CPU time counts its own work, not the time other processes
-    hold the cores (its wall time varied 5-10 x between runs at a load average of 10 on 2
-    cores)."""
-    t = time.process_time()
-    fn()
-    first = time.process_time() - t
-    calls = max(1, min(10_000, int(0.02 / max(first, 1e-7))))
-    times = []
-    for _ in range(repeat):
+def timed(rows, repeat):
+    """``{row: the median CPU time of one call}`` of ``rows`` (``{row: (fn, scale)}``, the time
+    scaled) over ``repeat`` samples, each sample as many calls as take some 20 ms (a call of
+    tens of microseconds timed alone reads its cold caches and the clock's own cost), after one
+    call. The rows are timed in turn within each sample, so that a change of the machine's load
+    during a run weighs on every row alike (timed one row after the other, the ratio of
+    ``Linkage.motion`` to plain numpy for one design moved between 0.7 and 1.2 from one run to
+    the next). CPU time: every path runs on one thread, and on a shared machine the process's
+    CPU time counts its own work, not the time other processes hold the cores (its wall time
+    varied 5-10 x between runs at a load average of 10 on 2 cores)."""
+    calls = {}
+    for label, (fn, _) in rows.items():
         t = time.process_time()
-        for _ in range(calls):
-            fn()
-        times.append((time.process_time() - t) / calls)
-    return statistics.median(times)
+        fn()
+        first = time.process_time() - t
+        calls[label] = max(1, min(10_000, int(0.02 / max(first, 1e-7))))
+    times: dict = {label: [] for label in rows}
+    for _ in range(repeat):
+        for label, (fn, _) in rows.items():
+            k = calls[label]
+            t = time.process_time()
+            for _ in range(k):
+                fn()
+            times[label].append((time.process_time() - t) / k)
+    return {label: statistics.median(times[label]) * scale for label, (_, scale) in rows.items()}
 
 
 #: designs per call: 10,000 designs run in chunks (as sweeps do), the block of every output of
@@ -573,15 +580,13 @@ def main(argv=None):
         for n in args.designs:
             rows = paths(name, n, bool(version))
             got = {}
+            rows = {k: fn if isinstance(fn, tuple) else (fn, 1.0) for k, fn in rows.items()}
             for _ in range(args.runs):
-                run = {}
-                for label, fn in rows.items():
-                    fn, scale = fn if isinstance(fn, tuple) else (fn, 1.0)
-                    reps = args.repeat if n * PHI.size < 1e6 else 1
-                    run[label] = timed(fn, reps) * scale
+                run = timed(rows, args.repeat if n * PHI.size < 1e6 else 1)
                 for label, t in run.items():
                     got.setdefault(label, []).append(t)
             entry[n] = got
+    report["load average at the end"] = os.getloadavg()[0]
     if args.json:
         print(json.dumps(report, indent=2, default=str))
         return
@@ -590,8 +595,12 @@ def main(argv=None):
 
 def show(report, repeat, runs):
     """Print a report (of :func:`main`, or read back from its ``--json`` output)."""
-    print(f"360 angles, one thread, CPU time, median of {repeat} per run, {runs} runs "
-          f"(load average {report['load average']:.1f}: a shared machine; ratios within a run)")
+    end = report.get("load average at the end")
+    load = f"{report['load average']:.1f}" + (f" -> {end:.1f}" if end is not None else "")
+    print(
+        f"360 angles, one thread, CPU time, median of {repeat} per run, {runs} runs, the "
+        f"rows timed in turn (load average {load}: a shared machine; ratios within a run)"
+    )
     for name, entry in report["linkages"].items():
         print(f"\n{name}: plain numpy = Linkage.motion to {entry['plain numpy agrees to']:.1e} "
               f"({entry['outputs']} outputs)")  # fmt: skip
