@@ -403,9 +403,11 @@ class Motion:
         ``__post_init__``: what :meth:`Motion` makes of the same arguments."""
         m = _new(cls)
         d = m.__dict__
+        # in the fields' order, as __init__ would set them
         d["phi"], d["omega"], d["epsilon"] = phi, omega, epsilon
-        d["points"], d["links"], d["sliders"] = tracks
-        d["pressure_angle"], d["raw_transmission_angle"] = pressure_angle, raw_transmission_angle
+        d["points"], d["links"] = tracks[0], tracks[1]
+        d["pressure_angle"], d["sliders"] = pressure_angle, tracks[2]
+        d["raw_transmission_angle"] = raw_transmission_angle
         d["extra"], d["pressure_angles"] = extra, pressure_angles
         d["raw_transmission_angles"] = raw_transmission_angles
         return m
