@@ -295,11 +295,7 @@ def dyad_rrr(p1: PointJet, p2: PointJet, l1, l2, branch=1, phi=None, apart=None)
     theta1 : Jet of the angle of link p1 -> C.
     theta2 : Jet of the angle of link p2 -> C.
     """
-    if apart is None:  # rrr_apart's lines (the compiled kernels compile this code alone)
-        dx, dy = ops.minus(p2.x, p1.x), ops.minus(p2.y, p1.y)
-        d2 = dx * dx + dy * dy
-    else:
-        dx, dy, d2 = apart
+    dx, dy, d2 = rrr_apart(p1, p2) if apart is None else apart
     a = (l1 * l1 - l2 * l2 + d2) / (2.0 * d2)  # fraction of p1->p2 to the foot of C
     q = l1 * l1 / d2
     h2 = q - a * a  # (height of C above the line / d)^2

@@ -473,6 +473,7 @@ def _kernels():
             blocks._root,
             blocks.link_angle,
             blocks.crank_pin,
+            blocks.rrr_apart,
             blocks.dyad_rrr,
             blocks._rrp_slide,
             blocks.dyad_rrp,

@@ -424,8 +424,8 @@ class RRRGroup(Group):
         else:
             moved = None
             if ops.is_symbolic(margin):
-                dx, dy = p2.x - p1.x, p2.y - p1.y
-                d = ops.sqrt(dx * dx + dy * dy)
+                dx, dy, d2 = apart
+                d = ops.sqrt(d2)
                 lo, hi = ops.fabs(l1 - l2) + _HOLD * (l1 + l2), (l1 + l2) * (1.0 - _HOLD)
                 k = ops.fmin(ops.fmax(d, lo), hi) / d
                 moved = (p2.x - k * dx, p2.y - k * dy)

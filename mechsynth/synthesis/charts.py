@@ -658,7 +658,7 @@ def _sweep_block(spec: _SweepSpec, c: int, build: bool = True) -> _BlockResult |
 #: seconds measured for a Linkage's sweep on this 2-core machine while shared (load average
 #: about 9; ``benchmarks/bench_sweep_switch.py``: paper 001's six-link, 360 crank angles, two
 #: measures, chunks of the sweep's size), per kernel backend (``linkage_kernels.kernel_backend``;
-#: numba where the kernels module has no other): ``"model"`` and ``"kernel"``, CPU per
+#: numba's where there is none): ``"model"`` and ``"kernel"``, CPU per
 #: design-angle evaluation of a chunk (motion and measures) on the numpy model and on the
 #: compiled kernel; ``"compile"``, CPU of the first build of its kernel (the process's and the
 #: C compiler's; ``"compile wall"`` its wall time, which the sweep does not wait for);
@@ -686,13 +686,11 @@ LINKAGE_COSTS = {
 
 
 def _backend() -> str:
-    """This process's kernel backend, without importing numba (numba when the kernels module
-    names none)."""
-    from ..kinematics import linkage_kernels
+    """This process's kernel backend, without importing numba (numba's costs when there is
+    none: no kernel is built then)."""
+    from ..kinematics.linkage_kernels import kernel_backend
 
-    which = getattr(linkage_kernels, "kernel_backend", None)
-    name = which(probe=False) if which is not None else "numba"
-    return name if name in LINKAGE_COSTS else "numba"
+    return kernel_backend(probe=False) or "numba"
 
 
 def _pays_back(build: str, costs: dict | None = None) -> float:

@@ -320,7 +320,6 @@ def seed_timed(targets, given, count: int = 16, min_mu: float = 0.0, phases: int
     ang = (phi0[:, None] + d[None, :]).ravel()  # (phases * N,)
     rows = np.flatnonzero(at.mu_min >= min_mu) if min_mu > 0 else np.arange(len(at))
     best_res = np.empty(rows.size)
-    best_k = np.empty(rows.size, dtype=complex)
     best_p = np.empty(rows.size, dtype=int)
     for s in range(0, rows.size, block):
         r = rows[s : s + block]
@@ -334,7 +333,6 @@ def seed_timed(targets, given, count: int = 16, min_mu: float = 0.0, phases: int
         p = np.argmin(res, axis=1)
         i = np.arange(len(r))
         best_res[s : s + block], best_p[s : s + block] = res[i, p], p
-        best_k[s : s + block] = num[i, p] / den[i, p]
     out = []
     for j in np.argsort(best_res)[:count]:
         if not np.isfinite(best_res[j]):

@@ -426,7 +426,7 @@ def _phi(motion):
 
 def _per_design(motion, fn):
     x, y = _curve(motion)
-    phi = np.asarray(motion.phi, dtype=float).reshape(-1)
+    phi = _phi(motion)
     x, y = np.broadcast_arrays(x, y)
     if x.ndim == 1:
         return fn(phi, x, y)
