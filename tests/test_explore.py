@@ -352,9 +352,9 @@ def test_page_runs_a_solve_in_a_worker_process(page):
     page._rebuild_dims()
     page._refresh(None)
     page._on_optimize()
-    assert page._proc is not None and page.opt_button.disabled
+    assert page._solve.running and page.opt_button.disabled
     t0 = time.perf_counter()
-    while page._proc is not None and time.perf_counter() - t0 < 300:
+    while page._solve.running and time.perf_counter() - t0 < 300:
         page.poll()
         time.sleep(0.2)
     assert "optimal" in page.opt_status.object

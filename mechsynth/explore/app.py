@@ -13,8 +13,6 @@ from __future__ import annotations
 import io
 import json
 import math
-import multiprocessing
-import queue
 import socket
 import sys
 import tempfile
@@ -61,6 +59,7 @@ from .model import (
     sweep_chart,
 )
 from .synthesis_tab import SynthesisTab
+from .worker import Worker
 
 __all__ = ["Explorer", "serve", "free_port", "label_of"]
 
@@ -129,13 +128,10 @@ class Explorer:
         self.sketch = None
         self.curve_data = None
         self.frame_cols, self.frame_meta = None, None
-        self._proc = None
-        self._queue = None
-        self._t0 = 0.0
+        self._solve = Worker()  # the Optimize tab's solve
         self._sweep = None
         self._sweep_t0 = 0.0
         self._sweep_progress = [None]
-        self._stage = ""
         self._chart = None
         self._chart_state = None
         self._building = False
@@ -143,7 +139,6 @@ class Explorer:
         self._field_msgs = {}
         self._kind_value = None
         self._fit_next = True
-        self._reaped = []
         self._rows, self._row_dims = [], []
         self._busy_note = ("", 0.0)
         self._targets = None  # target poses (SI rows x, y, angle) shown on the drawing
@@ -1149,7 +1144,7 @@ class Explorer:
 
     # ------------------------------------------------------------------ optimize
     def _busy(self, what) -> bool:
-        if self._proc is not None:
+        if self._solve.running:
             self._busy_note = (f"cancel the solve to {what}", time.perf_counter())
             self.opt_status.object = (
                 f"<span id='opt-state' style='color:#b00'>solving: cancel the solve to "
@@ -1159,7 +1154,7 @@ class Explorer:
         return False
 
     def _on_optimize(self, event=None):
-        if self._proc is not None:
+        if self._solve.running:
             return
         self._on_problem(None)
         if self._field_msgs or not self._show_bound_messages():
@@ -1174,12 +1169,7 @@ class Explorer:
         except (ValueError, TypeError, MechanismError) as exc:
             self.opt_status.object = f"<span id='opt-state' style='color:#b00'>{exc}</span>"
             return
-        ctx = multiprocessing.get_context("spawn")
-        self._queue = ctx.Queue()
-        self._proc = ctx.Process(target=solve_worker, args=(data, self._queue), daemon=True)
-        self._proc.start()
-        self._t0 = time.perf_counter()
-        self._stage = "starting the solver"
+        self._solve.start(solve_worker, data, "starting the solver")
         self.opt_button.disabled = True
         self.cancel_button.disabled = False
         self.progress.visible = True
@@ -1188,33 +1178,20 @@ class Explorer:
         self.opt_status.object = "<span id='opt-state'>solving: starting the solver...</span>"
 
     def _on_cancel(self, event=None):
-        if self._proc is None:
+        if not self._solve.running:
             return
-        self._proc.terminate()
-        self._end_solve()
+        self._end_solve(kill=True)
         self.opt_status.object = "<span id='opt-state'>cancelled</span>"
 
     def close(self):
         """Stop a running solve (the session ended)."""
-        if self._proc is not None:
-            self._proc.terminate()
-            self._end_solve()
+        if self._solve.running:
+            self._end_solve(kill=True)
         if self._synthesis is not None:
             self._synthesis.close()
 
-    def _end_solve(self):
-        proc, self._proc = self._proc, None
-        if proc is not None:  # reap the worker: no zombie process stays behind
-            proc.join(timeout=5)
-            if proc.is_alive():
-                proc.kill()
-                proc.join(timeout=5)
-            if hasattr(proc, "close") and not proc.is_alive():
-                proc.close()
-            self._reaped.append(proc)
-        if self._queue is not None:
-            self._queue.close()
-        self._queue = None
+    def _end_solve(self, kill: bool = False):
+        self._solve.end(kill)  # reaped: no zombie process stays behind
         self.opt_button.disabled = False
         self.cancel_button.disabled = True
         self.progress.active = False
@@ -1222,48 +1199,39 @@ class Explorer:
 
     def poll(self):
         """Collect the worker's messages and the chart sweep (periodic callback)."""
-        if self._queue is not None:
-            elapsed = time.perf_counter() - self._t0
-            while self._queue is not None:
-                try:
-                    msg = self._queue.get_nowait()
-                except (queue.Empty, OSError, ValueError):
-                    break
+        run = self._solve
+        if run.running:
+            for msg in run.messages():
                 if msg[0] == "progress":
                     _, desc, k, total = msg
                     if total:
                         self.progress.max = total
                         self.progress.value = min(k, total)
-                    self._stage = f"{desc} {k}/{total or '?'}"
+                    run.stage = f"{desc} {k}/{total or '?'}"
                     if total and k >= total:
-                        self._stage += ", certifying the peaks"
+                        run.stage += ", certifying the peaks"
                 elif msg[0] == "done":
                     self._end_solve()
                     self._apply_result(msg[1])
+                    break
                 elif msg[0] == "error":
                     self._end_solve()
+                    text = msg[1]
+                    if text == "the process ended without a result":
+                        text = "the solver process ended without a result"
+                    else:
+                        text = f"solve failed: {_escape(text)}"
                     self.opt_status.object = (
-                        f"<span id='opt-state' style='color:#b00'>solve failed: "
-                        f"{_escape(msg[1])}</span>"
+                        f"<span id='opt-state' style='color:#b00'>{text}</span>"
                     )
-            if self._proc is not None:  # the elapsed time moves even between messages
+                    break
+            if run.running:  # the elapsed time moves even between messages
                 note, since = self._busy_note
                 note = note if time.perf_counter() - since < 10 else ""
                 self.opt_status.object = (
-                    f"<span id='opt-state'>solving: {self._stage} ({elapsed:.0f} s)"
+                    f"<span id='opt-state'>solving: {run.stage} ({run.elapsed:.0f} s)"
                     + (f"<br><span style='color:#b00'>{note}</span>" if note else "")
                     + "</span>"
-                )
-            if (
-                self._proc is not None
-                and not self._proc.is_alive()
-                and self._queue is not None
-                and self._queue.empty()
-            ):
-                self._end_solve()
-                self.opt_status.object = (
-                    "<span id='opt-state' style='color:#b00'>the solver "
-                    "process ended without a result</span>"
                 )
         self._poll_sweep()
         self._poll_synthesis()

@@ -18,9 +18,6 @@ from __future__ import annotations
 
 import json
 import math
-import multiprocessing
-import queue
-import time
 
 import numpy as np
 
@@ -45,6 +42,7 @@ from .synthesis_model import (
     path_worker,
     run_function,
 )
+from .worker import Worker
 
 __all__ = ["SynthesisTab", "TASKS"]
 
@@ -141,66 +139,6 @@ function move(e) {
 """.replace("HIT", str(HIT))
 
 
-class _Worker:
-    """A search in a process of its own: started, polled for its messages, cancelled, and
-    reaped when it ends (no zombie process stays behind)."""
-
-    def __init__(self):
-        self.proc = None
-        self.queue = None
-        self.t0 = 0.0
-        self.stage = ""
-        self.job = None
-
-    @property
-    def running(self) -> bool:
-        return self.proc is not None
-
-    def start(self, target, job):
-        ctx = multiprocessing.get_context("spawn")
-        self.queue = ctx.Queue()
-        self.proc = ctx.Process(target=target, args=(job, self.queue), daemon=True)
-        self.proc.start()
-        self.job, self.t0, self.stage = job, time.perf_counter(), "starting"
-
-    def end(self, kill: bool = False):
-        proc, self.proc = self.proc, None
-        if proc is not None:
-            if kill:
-                proc.terminate()
-            proc.join(timeout=5)
-            if proc.is_alive():
-                proc.kill()
-                proc.join(timeout=5)
-            if not proc.is_alive():
-                proc.close()
-        if self.queue is not None:
-            self.queue.close()
-        self.queue = None
-
-    def messages(self) -> list:
-        """The messages posted so far; ``("error", ...)`` when the process ended silently."""
-        out = []
-        while self.queue is not None:
-            try:
-                out.append(self.queue.get_nowait())
-            except (queue.Empty, OSError, ValueError):
-                break
-        if (
-            not any(m[0] in ("done", "error") for m in out)
-            and self.proc is not None
-            and not self.proc.is_alive()
-            and self.queue is not None
-            and self.queue.empty()
-        ):
-            out.append(("error", "the process ended without a result"))
-        return out
-
-    @property
-    def elapsed(self) -> float:
-        return time.perf_counter() - self.t0
-
-
 class SynthesisTab:
     """Path and function generation in the page of ``app`` (its :class:`~.app.Explorer`)."""
 
@@ -213,8 +151,8 @@ class SynthesisTab:
         from .app import _widget
 
         self.app = app
-        self._path_run = _Worker()  # the path search
-        self._mm_run = _Worker()  # the function generator's min-max stage
+        self._path_run = Worker()  # the path search
+        self._mm_run = Worker()  # the function generator's min-max stage
         self._result = None  # the last path result
         self._tables = None  # the linkage's tables it searched over (None: four-bar, slider)
         self._moved = []  # the target lists (points, poses) before each move, to undo it
