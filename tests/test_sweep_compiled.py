@@ -81,3 +81,56 @@ def test_workspace_reuses_its_block():
     a = ws.block(10, 36)
     b = ws.block(4, 36)
     assert np.shares_memory(a, b) and b.shape == (8, 4, 36) and b.flags.c_contiguous
+
+
+@needs_numba
+def test_batch_motion_computes_its_angles_only_when_they_are_read():
+    """The pressure and transmission angles are passes over the whole block: computed the
+    first time each is read (the kernel's outputs untouched), equal to the model's."""
+    import pickle
+
+    from mechsynth.kinematics.tracks import Motion
+
+    sc = ms.SliderCrank(np.array([0.05, 0.07])[:, None], 0.24, np.array([0.0, -0.03])[:, None])
+    m, ws = sc.motion(PHI, speed=12.0), BatchWorkspace()
+    block = ws.block(2, PHI.size)
+    block[6:] = np.nan
+    fast = batch_motion(sc, PHI, speed=12.0, workspace=ws)
+    np.testing.assert_allclose(fast.slider.acceleration, m.slider.acceleration, atol=1e-12)
+    assert np.isnan(block[6:]).all()  # not read: not computed
+    np.testing.assert_allclose(fast.pressure_angle, m.pressure_angle, atol=1e-12)
+    assert np.shares_memory(fast.pressure_angle, block[6]) and np.isnan(block[7]).all()
+    np.testing.assert_allclose(fast.transmission_angle, m.transmission_angle, atol=1e-12)
+    assert not np.isnan(block[7]).any()
+    # a four-bar's pressure angle is read from its transmission angle: both computed
+    fb = ms.FourBar(np.array([1.0, 1.2])[:, None], 4.3, 3.0, 5.2, branch="crossed")
+    block[6:] = np.nan
+    fast, m = batch_motion(fb, PHI, workspace=ws), fb.motion(PHI)
+    assert np.isnan(block[6:]).all()
+    np.testing.assert_allclose(fast.pressure_angle, m.pressure_angle, atol=1e-12)
+    np.testing.assert_allclose(fast.transmission_angle, m.transmission_angle, atol=1e-12)
+    # sent elsewhere, it is a plain Motion with the same arrays
+    again = pickle.loads(pickle.dumps(fast))
+    assert type(again) is Motion
+    np.testing.assert_array_equal(again.raw_transmission_angle, fast.raw_transmission_angle)
+
+
+@needs_numba
+def test_a_chart_that_needs_no_angles_skips_them_and_gives_the_same_numbers(monkeypatch):
+    grid = {"crank": np.linspace(0.02, 0.09, 9), "offset": np.linspace(-0.04, 0.05, 7)}
+    kw = dict(fixed={"rod": 0.12}, angles=120, speed=ms.rpm(300), progress=False, chunk=10)
+    peaks = {"acc": ob.peak_acceleration("slider"), "rod eps": ob.peak_angular_acceleration("rod")}
+    angles = {"pressure": ob.max_pressure_angle(), "mu": ob.min_transmission_angle()}
+    read = []
+    p, t = compiled._ANGLES[ms.SliderCrank]
+    monkeypatch.setitem(compiled._ANGLES, ms.SliderCrank, (
+        lambda *a: read.append("pressure") or p(*a), lambda *a: read.append("mu") or t(*a)
+    ))  # fmt: skip
+    lean = sweep(ms.SliderCrank, grid, peaks, **kw)
+    assert read == []  # no measure read an angle: none computed
+    full = sweep(ms.SliderCrank, grid, {**peaks, **angles}, **kw)
+    assert read and set(read) == {"pressure", "mu"}
+    np.testing.assert_array_equal(lean.feasible, full.feasible)
+    for k in peaks:  # the same numbers, bit for bit
+        np.testing.assert_array_equal(lean.values[k].filled(np.nan), full.values[k].filled(np.nan))
+    _same(full, sweep(ms.SliderCrank, grid, {**peaks, **angles}, kernels=False, **kw))

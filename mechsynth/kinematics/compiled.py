@@ -63,6 +63,7 @@ from ..errors import MechanismError
 from . import ops
 from .four_bar import FourBar, four_bar_chain
 from .slider_crank import SliderCrank, slider_crank_chain
+from .tracks import Motion
 
 __all__ = [
     "FourBarBatch",
@@ -644,6 +645,75 @@ class BatchWorkspace:
         return self._buf[:size].reshape(rows, n, m)
 
 
+def _slider_crank_pressure(motion, res, extra):
+    """A slider-crank's pressure angle, ``arcsin(|offset - y_A| / rod) = |rod angle|``."""
+    return np.abs(res.rod_angle, out=extra[0])
+
+
+def _slider_crank_transmission(motion, res, extra):
+    """A slider-crank's raw transmission angle, the complement of its pressure angle."""
+    return np.subtract(np.pi / 2, motion.pressure_angle, out=extra[1])
+
+
+def _four_bar_transmission(motion, res, extra):
+    """A four-bar's raw transmission angle in [0, pi] (``extra[0]`` as scratch)."""
+    np.subtract(res.coupler_angle, res.rocker_angle, out=extra[1])
+    np.abs(extra[1], out=extra[1])
+    np.subtract(2.0 * np.pi, extra[1], out=extra[0])
+    return np.minimum(extra[1], extra[0], out=extra[1])
+
+
+def _four_bar_pressure(motion, res, extra):
+    """A four-bar's pressure angle, ``|pi/2 - transmission angle|``."""
+    np.subtract(np.pi / 2, motion.raw_transmission_angle, out=extra[0])
+    return np.abs(extra[0], out=extra[0])
+
+
+_ANGLES = {
+    SliderCrank: (_slider_crank_pressure, _slider_crank_transmission),
+    FourBar: (_four_bar_pressure, _four_bar_transmission),
+}
+
+
+class _OnRead:
+    """A field of :class:`_BatchMotion` computed from the kernel's outputs when first read
+    (and stored like any field when set, e.g. by ``dataclasses.replace``)."""
+
+    def __set_name__(self, owner, name):
+        self.key = "_" + name
+        self.which = ("pressure_angle", "raw_transmission_angle").index(name)
+
+    def __get__(self, motion, owner=None):
+        if motion is None:
+            return self
+        d = motion.__dict__
+        if self.key not in d:
+            kind, res, extra = d["_kernel_outputs"]
+            d[self.key] = _ANGLES[kind][self.which](motion, res, extra)
+        return d[self.key]
+
+    def __set__(self, motion, value):
+        if value is not _PENDING:
+            motion.__dict__[self.key] = value
+
+
+_PENDING = object()  # a _BatchMotion's angle not computed yet
+
+
+class _BatchMotion(Motion):
+    """The motion :func:`batch_motion` returns: a :class:`Motion` whose pressure and raw
+    transmission angles are computed from the kernel's outputs the first time one of them is
+    read, each on its own. A chart whose measures do not read them does not pay for them (a
+    slider-crank chart's two passes over a chunk's block, an eighth of its time; the
+    pressure angle alone, one). Pickled and copied as a plain :class:`Motion`."""
+
+    pressure_angle = _OnRead()
+    raw_transmission_angle = _OnRead()
+
+    def __reduce__(self):
+        return Motion, tuple(getattr(self, f.name) for f in dataclasses.fields(Motion))
+
+
 def batch_motion(mechanism, phi, speed=None, workspace: BatchWorkspace | None = None):
     """The motion of a batch of numeric :class:`SliderCrank` or :class:`FourBar` designs (each
     parameter a number or an ``(n,)`` / ``(n, 1)`` array) on the compiled kernels, or None when
@@ -653,10 +723,11 @@ def batch_motion(mechanism, phi, speed=None, workspace: BatchWorkspace | None = 
     slider (``sliders["B"]``) or the rocker, the rod or coupler, the crank, the pressure and
     transmission angles -- as ``(n, m)`` views into ``workspace``'s block (valid until its next
     use); it has no point tracks (a measure that asks for one raises ``KeyError`` or
-    ``ValueError`` and the caller falls back to the model). Values agree with the model to
-    1e-12 (``tests/test_charts.py``).
+    ``ValueError`` and the caller falls back to the model). The pressure and transmission
+    angles are computed when first read (from the block, so read them before its next use).
+    Values agree with the model to 1e-12 (``tests/test_charts.py``).
     """
-    from .tracks import LinkTrack, Motion, SliderTrack
+    from .tracks import LinkTrack, SliderTrack
 
     kind = type(mechanism)
     if kind not in (SliderCrank, FourBar) or not numba_available():
@@ -677,40 +748,32 @@ def batch_motion(mechanism, phi, speed=None, workspace: BatchWorkspace | None = 
     out, extra = block[:6], block[6:]
     if kind is SliderCrank:
         res = slider_crank_batch(*params.values(), phi, speed=speed, out=out)
-        np.abs(res.rod_angle, out=extra[0])  # arcsin(|offset - y_A| / rod) = |rod angle|
-        np.subtract(np.pi / 2, extra[0], out=extra[1])
         links = {"rod": LinkTrack(res.rod_angle, res.rod_omega, res.rod_epsilon)}
         sliders = {"B": SliderTrack(res.position, res.velocity, res.acceleration)}
-        pressure, transmission = extra[0], extra[1]
     else:
         res = four_bar_batch(
             *params.values(), phi, branch=mechanism.branch, full_turn=mechanism.full_turn,
             speed=speed, out=out,
         )  # fmt: skip
-        np.subtract(res.coupler_angle, res.rocker_angle, out=extra[1])
-        np.abs(extra[1], out=extra[1])
-        np.subtract(2.0 * np.pi, extra[1], out=extra[0])
-        np.minimum(extra[1], extra[0], out=extra[1])  # transmission angle in [0, pi]
-        np.subtract(np.pi / 2, extra[1], out=extra[0])
-        np.abs(extra[0], out=extra[0])
         links = {
             "coupler": LinkTrack(res.coupler_angle, res.coupler_omega, res.coupler_epsilon),
             "rocker": LinkTrack(res.rocker_angle, res.rocker_omega, res.rocker_epsilon),
         }
         sliders = {}
-        pressure, transmission = extra[0], extra[1]
     omega = 1.0 if speed is None else float(speed)
     shape = (n, phi.size)
     links["crank"] = LinkTrack(
         np.broadcast_to(phi, shape), np.broadcast_to(omega, shape), np.broadcast_to(0.0, shape)
     )
-    return Motion(
+    motion = _BatchMotion(
         phi=phi,
         omega=omega,
         epsilon=0.0,
         points={},
         links=links,
-        pressure_angle=pressure,
+        pressure_angle=_PENDING,
         sliders=sliders,
-        raw_transmission_angle=transmission,
+        raw_transmission_angle=_PENDING,
     )
+    motion.__dict__["_kernel_outputs"] = (kind, res, extra)
+    return motion
