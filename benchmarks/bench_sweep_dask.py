@@ -1,6 +1,7 @@
-"""Benchmark: a chart on a Dask LocalCluster against the same chart in this process, with the
-sweep's task sizes (several chunks per task, from the measured per-task overhead) and with one
-chunk per task (as before), in the same run; and the executors' per-task overhead itself.
+"""Benchmark: a chart on a Dask LocalCluster against the same chart in this process: as the sweep
+decides (the cluster when it is predicted faster, else this process: ``Chart.ran_on`` says
+which) and sent to the cluster whatever the prediction (the sweep's task sizes), in the same
+run; and the executors' per-task overhead and cost per byte of results themselves.
 
 The chart: ``slider_crank_chart`` over ``N x N`` designs at 360 angles (compiled kernels). The
 cluster: ``--workers`` worker processes of one thread each, started once and warmed up (their
@@ -10,7 +11,8 @@ ratios to this process are printed, and the charts are checked identical.
 The per-task overhead: the round trip of a task that does nothing as the sweep measures it on
 the cluster (``charts.task_overhead``: one task at a time, the median of seven), trivial tasks
 through ``Client.get_executor().map`` (many in flight) and through a spawned
-``ProcessPoolExecutor`` (:data:`mechsynth.synthesis.charts.TASK_OVERHEAD`).
+``ProcessPoolExecutor`` (:data:`mechsynth.synthesis.charts.TASK_OVERHEAD`); the results' cost
+per byte as the sweep measures it (``charts.result_cost``).
 
 ``--address tcp://HOST:PORT`` runs the same on a cluster started elsewhere instead of a
 LocalCluster, e.g. a scheduler and two workers started from the shell on this machine::
@@ -82,58 +84,52 @@ def main(argv=None):
               f"{sorted({w['nthreads'] for w in workers.values()})} threads")  # fmt: skip
         t = time.perf_counter()
         trip = charts.task_overhead(ex)
+        per_byte = charts.result_cost(ex)
         t_trip = time.perf_counter() - t
         dask_task = statistics.median(per_task_seconds(ex) for _ in range(3))
-        print(f"per-task overhead: Dask round trip as the sweep measures it {trip * 1e3:.1f} ms "
-              f"(measured in {t_trip * 1e3:.0f} ms, once per scheduler), many in flight "
-              f"{dask_task * 1e3:.1f} ms per task; process pool {pool_task * 1e3:.2f} ms "
-              f"(load average {os.getloadavg()[0]:.1f}: a shared machine)")  # fmt: skip
+        print(f"per-task overhead: Dask round trip as the sweep measures it {trip * 1e3:.1f} ms, "
+              f"results {per_byte * 1e9:.1f} ns/byte (both measured in {t_trip * 1e3:.0f} ms, "
+              f"once per scheduler), many in flight {dask_task * 1e3:.1f} ms per task; process "
+              f"pool {pool_task * 1e3:.2f} ms (load average {os.getloadavg()[0]:.1f}: a shared "
+              "machine)")  # fmt: skip
 
         def chart(n, executor):
             lam, eps = np.linspace(1.5, 8.0, n), np.linspace(0.0, 2.0, n)
             return charts.slider_crank_chart(rod_crank=lam, offset_crank=eps, progress=False,
                                              executor=executor)  # fmt: skip
 
-        one_per_task = charts._chunks_per_task
-
-        def timed(n, executor, per_task=None):
-            if per_task is not None:
-                charts._chunks_per_task = lambda *a: per_task
+        def timed(n, executor, always=False):
+            charts.ALWAYS_USE_EXECUTOR = always
             try:
                 t = time.perf_counter()
                 out = chart(n, executor)
                 return time.perf_counter() - t, out
             finally:
-                charts._chunks_per_task = one_per_task
+                charts.ALWAYS_USE_EXECUTOR = False
 
-        chart(20, ex)  # warm the workers: kernels loaded
+        timed(20, ex, always=True)  # warm the workers: kernels loaded
         chart(20, "local")
         for n in args.n:
-            timed(n, ex)  # the workers' memory for this size, untimed
-            rows = {"this process": [], "Dask, the sweep's tasks": [], "Dask, a chunk per task": []}
+            timed(n, ex, always=True)  # the workers' memory for this size, untimed
+            rows = {"this process": [], "as the sweep decides": [], "Dask, always": []}
+            where = set()
             for _ in range(args.runs):
                 t_local, local = timed(n, "local")
-                t_dask, remote = timed(n, ex)
-                t_one, single = timed(n, ex, per_task=1)
+                t_auto, auto = timed(n, ex)
+                t_dask, remote = timed(n, ex, always=True)
+                _identical(auto, local)
                 _identical(remote, local)
-                _identical(single, local)
                 rows["this process"].append(t_local)
-                rows["Dask, the sweep's tasks"].append(t_dask)
-                rows["Dask, a chunk per task"].append(t_one)
-            chunk = charts._default_chunk(
-                charts._SweepSpec(None, {}, (1,), 1, {}, None, None, {}, np.zeros(360), None,
-                                  True), 8)  # fmt: skip
-            n_chunks = -(-n * n // chunk)
-            spec_like = charts._SweepSpec(None, {}, (1,), chunk, {}, None, None, {},
-                                          np.zeros(360), None, True)  # fmt: skip
-            per = charts._chunks_per_task(ex, spec_like, 8, n_chunks)
-            print(f"\n{n * n:,d} slider-crank designs x 360 angles ({n_chunks} chunks of "
-                  f"{chunk}; the sweep's tasks: {per} chunks each), wall seconds, "
-                  f"{args.runs} runs:")  # fmt: skip
+                rows["as the sweep decides"].append(t_auto)
+                rows["Dask, always"].append(t_dask)
+                where.add(auto.ran_on)
+            print(f"\n{n * n:,d} slider-crank designs x 360 angles, wall seconds, {args.runs} runs "
+                  f"(load average {os.getloadavg()[0]:.1f}); the sweep ran on "
+                  + " | ".join(sorted(where)) + ":")  # fmt: skip
             base = rows["this process"]
             for label, ts in rows.items():
                 ratio = statistics.median(ts) / statistics.median(base)
-                print(f"  {label:28s} " + " ".join(f"{t:6.2f}" for t in ts) + "   / this process "
+                print(f"  {label:22s} " + " ".join(f"{t:6.2f}" for t in ts) + "   / this process "
                       + " ".join(f"{t / b:5.2f}" for t, b in zip(ts, base))
                       + f"   medians {ratio:5.2f}")  # fmt: skip
 

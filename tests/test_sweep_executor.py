@@ -5,10 +5,19 @@ from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 import numpy as np
 import pytest
 
+import mechsynth as ms
 from mechsynth.cli import main
+from mechsynth.synthesis import charts
 from mechsynth.synthesis.charts import slider_crank_chart, sweep_executor
 
 GRID = {"rod_crank": np.linspace(1.5, 5.0, 9), "offset_crank": np.linspace(0.0, 1.5, 7)}
+
+
+@pytest.fixture(autouse=True)
+def _executors_take_the_tasks(monkeypatch):
+    """These charts are too small for an executor to pay: the tests of the executors' own paths
+    send them the tasks all the same (the tests of the decision turn this off)."""
+    monkeypatch.setattr(charts, "ALWAYS_USE_EXECUTOR", True)
 
 
 def _chart(**kw):
@@ -87,3 +96,66 @@ def test_a_linkage_sweep_on_a_pool_of_processes_gives_the_local_chart(monkeypatc
     assert len(started) == 1
     with pytest.raises(ValueError, match="executor must be"):
         _six_link_sweep("threads")
+
+
+def _spec(designs, angles):
+    """A slider-crank chart's description with the default chunks of the kernels."""
+    measures = {"a": None, "b": None}
+    spec = charts._SweepSpec(ms.SliderCrank, {"x": np.zeros(designs)}, (designs,), 1, {}, None,
+                             None, measures, ms.cycle(angles), None, True)  # fmt: skip
+    return charts.replace(spec, chunk=charts._default_chunk(spec, 8))
+
+
+def test_an_executor_gets_the_tasks_only_where_it_is_predicted_faster(monkeypatch):
+    """Predicted from the measured costs: a small chart stays in this process (its chunks'
+    work is less than the round trips and the workers' first load of the kernels), a large one
+    goes to the cluster -- two workers on this machine's cores (at most as many at once as it
+    has) or elsewhere; results that cost more to send back than their work keep it here."""
+    monkeypatch.setattr(charts, "ALWAYS_USE_EXECUTOR", False)
+    monkeypatch.setattr(charts, "task_overhead", lambda ex: 0.015)  # as measured on Dask
+    monkeypatch.setattr(charts, "result_cost", lambda ex: 5e-9)
+    monkeypatch.setattr(charts, "cores", lambda: 2)
+    monkeypatch.setattr(charts, "_SEEN", set())
+    monkeypatch.setattr(charts, "executor_workers", lambda ex: 2)
+    with ThreadPoolExecutor(2) as pool:
+        for designs, angles, here, pays in (
+            (63, 90, True, False),
+            (90_000, 360, True, False),  # 0.23 s of work: the kernels' load alone is 0.6 s
+            (1_000_000, 360, True, True),
+            (1_000_000, 360, False, True),
+        ):
+            monkeypatch.setattr(charts, "_on_this_host", lambda ex, here=here: here)
+            spec = _spec(designs, angles)
+            n_chunks = -(-designs // spec.chunk)
+            per, why = charts._executor_plan(pool, spec, 8, n_chunks)
+            assert (per > 0) == pays, why
+            assert why.startswith("ThreadPoolExecutor" if pays else "this process"), why
+        # results that cost more to send than to compute: this process at any size
+        monkeypatch.setattr(charts, "result_cost", lambda ex: 1e-6)
+        assert charts._executor_plan(pool, _spec(10**7, 360), 8, 1717)[0] == 0
+        # the same with the executor asked for whatever the prediction
+        monkeypatch.setattr(charts, "ALWAYS_USE_EXECUTOR", True)
+        assert charts._executor_plan(pool, _spec(10**7, 360), 8, 1717)[0] > 0
+
+
+def test_a_small_chart_given_a_dask_cluster_runs_in_this_process_and_says_so(monkeypatch):
+    distributed = pytest.importorskip("dask.distributed")
+    monkeypatch.setattr(charts, "ALWAYS_USE_EXECUTOR", False)
+    local = _chart()
+    assert local.ran_on == "this process"
+    with (
+        distributed.LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None
+        ) as cluster,
+        distributed.Client(cluster, set_as_default=False) as client,
+    ):
+        ex = client.get_executor()
+        small = _chart(executor=ex)
+        _identical(small, local)
+        assert small.ran_on.startswith("this process: a Dask cluster of 2 workers would not pay")
+        # the costs measured on the cluster, once: a round trip and the results' bytes
+        assert 0 < charts.task_overhead(ex) < 1.0 and 0 <= charts.result_cost(ex) < 1e-6
+        # a chart with 20 times the work per design pays on the same cluster
+        spec = _spec(400_000, 7200)
+        per, why = charts._executor_plan(ex, spec, 8, -(-400_000 // spec.chunk))
+        assert per > 0 and why.startswith("a Dask cluster of 2 workers"), why

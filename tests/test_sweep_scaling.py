@@ -118,6 +118,9 @@ class _DaskLike(ThreadPoolExecutor):
 
 def test_executor_tasks_hold_several_chunks_and_give_the_local_chart(monkeypatch):
     monkeypatch.setattr(charts, "task_overhead", lambda executor: 8e-3)  # as measured on Dask
+    monkeypatch.setattr(charts, "result_cost", lambda executor: 1e-8)
+    monkeypatch.setattr(charts, "ALWAYS_USE_EXECUTOR", True)  # a chart too small to pay
+    _DaskLike.tasks = 0
     local = charts.slider_crank_chart(**GRID, angles=36, progress=False, chunk=3)
     n_chunks = -(-local.size // 3)
     with _DaskLike(2) as pool:

@@ -31,6 +31,7 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import json
+import logging
 import threading
 import time
 from collections.abc import Callable, Mapping
@@ -48,6 +49,8 @@ from ..objectives.base import Measure
 from ..options import Option, chart_options
 
 __all__ = ["Chart", "sweep", "sweep_executor", "slider_crank_chart", "chart_slider_crank"]
+
+_log = logging.getLogger(__name__)
 
 _OPS = {
     "<=": np.less_equal,
@@ -76,6 +79,9 @@ class Chart:
     angles : crank angles per cycle; ``speed`` the crank speed (rad/s) or None for analogs.
     elapsed : seconds of the sweep.
     reason : the first reason a design was infeasible (empty when all are feasible).
+    ran_on : where the chunks were evaluated and, for an executor, why: its tasks, or this
+        process when the executor was predicted slower than this process (with both
+        predictions, in seconds; :func:`sweep`'s ``executor``).
     """
 
     mechanism: Any
@@ -90,6 +96,7 @@ class Chart:
     elapsed: float
     reason: str = ""
     measures: dict[str, Any] = field(default_factory=dict, repr=False)
+    ran_on: str = "this process"
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -516,35 +523,26 @@ class _BlockResult:
 _LOCAL = threading.local()  # one reused kinematics workspace per thread
 
 
-def _sweep_block(spec: _SweepSpec, c: int, build: bool = True) -> _BlockResult | None:
-    """Evaluate chunk ``c`` of a sweep: designs ``c * chunk`` ... of the flattened grid (a
-    Linkage's on its kernel if it is ready, else on the model; ``build``: as
-    :func:`_kernel_now`)."""
+def _chunk_designs(spec: _SweepSpec, c: int):
+    """The designs of chunk ``c`` (designs ``c * chunk`` ... of the flattened grid) before
+    their motion: ``(start, ok, params, params_out, reason)`` -- the designs that pass
+    ``feasible`` and the mechanism's feasibility hook, the parameters of the chunk (None when no
+    design passes; the others' rows take the first good row's values) and the varied ones as
+    the chart records them."""
     total = int(np.prod(spec.shape))
     start = c * spec.chunk
     idx = np.arange(start, min(total, start + spec.chunk))
     k = idx.size
-    reason = [""]
-
-    def note(msg):
-        if not reason[0]:
-            reason[0] = msg
-
+    reason = ""
     sub = np.unravel_index(idx, spec.shape)
     vals = {n: a[s] for (n, a), s in zip(spec.axes.items(), sub)}
     ok = np.ones(k, dtype=bool)
-    values = {label: np.zeros(k) for label in spec.measures}
-    params_out: dict = {}
-
-    def result():
-        return _BlockResult(start, ok, values, params_out, reason[0])
-
     if spec.feasible is not None:
         ok &= np.broadcast_to(np.asarray(spec.feasible(vals), dtype=bool), (k,))
         if not ok.all():
-            note("outside the chart's feasible region (feasible=...)")
+            reason = "outside the chart's feasible region (feasible=...)"
     if not ok.any():
-        return result()
+        return start, ok, None, {}, reason
     vals = _substitute(vals, ok)
     mapped = spec.design(dict(vals)) if spec.design is not None else vals
     clash = set(mapped) & set(spec.fixed)
@@ -561,15 +559,35 @@ def _sweep_block(spec: _SweepSpec, c: int, build: bool = True) -> _BlockResult |
     if hook is not None:
         for cname, g in hook(params, margin=0.0):
             good = np.broadcast_to(np.asarray(g, dtype=float) > 0.0, (k,))
-            if not good.all() and (ok & ~good).any():
-                note(f"violates {cname}")
+            if not good.all() and (ok & ~good).any() and not reason:
+                reason = f"violates {cname}"
             ok &= good
     if not ok.any():
-        return result()
+        return start, ok, None, {}, reason
     params = _substitute(params, ok)
-    for name, v in params.items():
-        if isinstance(v, np.ndarray) and v.ndim == 1:
-            params_out[name] = v
+    params_out = {n: v for n, v in params.items() if isinstance(v, np.ndarray) and v.ndim == 1}
+    return start, ok, params, params_out, reason
+
+
+def _sweep_block(spec: _SweepSpec, c: int, build: bool = True) -> _BlockResult | None:
+    """Evaluate chunk ``c`` of a sweep: designs ``c * chunk`` ... of the flattened grid (a
+    Linkage's on its kernel if it is ready, else on the model; ``build``: as
+    :func:`_kernel_now`)."""
+    start, ok, params, params_out, first = _chunk_designs(spec, c)
+    k = ok.size
+    reason = [first]
+
+    def note(msg):
+        if not reason[0]:
+            reason[0] = msg
+
+    values = {label: np.zeros(k) for label in spec.measures}
+
+    def result():
+        return _BlockResult(start, ok, values, params_out, reason[0])
+
+    if params is None:
+        return result()
     compiled = [spec.kernels]  # cleared when a measure needs what the compiled motion lacks
     kernel = _kernel_now(spec, build)
 
@@ -798,7 +816,10 @@ def _remote_block(payload: bytes, c: int, count: int = 1) -> _BlockResult | None
         _keep_freed_memory()  # the worker's malloc, as the sweep's own process
         _SPECS.clear()
         spec = _SPECS[key] = pickle.loads(payload)
-    return _joined([_sweep_block(spec, i, build=False) for i in range(c, c + count)])
+    res = _joined([_sweep_block(spec, i, build=False) for i in range(c, c + count)])
+    # the parameters stay here: the sweep's process derives them itself (:func:`_chunk_designs`,
+    # a small part of a chunk's work), which spares the transfer of 8 bytes per design each
+    return res if res is None else replace(res, params={})
 
 
 def _joined(blocks) -> _BlockResult | None:
@@ -911,8 +932,7 @@ def task_overhead(executor) -> float:
     :data:`TASK_OVERHEAD` ``["default"]``, a spawned process pool's, measured."""
     if not _is_dask(executor):
         return TASK_OVERHEAD["default"]
-    client = getattr(executor, "_client", None)
-    key = getattr(getattr(client, "scheduler", None), "address", None) or id(executor)
+    key = _executor_key(executor)
     if key not in _OVERHEADS:
         _OVERHEADS[key] = round_trip(executor)
     return _OVERHEADS[key]
@@ -932,6 +952,116 @@ def round_trip(executor, n: int = 7) -> float:
         executor.submit(_nothing, i).result()
         times.append(time.perf_counter() - t)
     return float(np.median(times))
+
+
+def _zeros(n):
+    return np.zeros(n)
+
+
+#: seconds per byte of a task's results on their way back (pickled, sent, unpickled) through
+#: an executor other than a Dask cluster (a Dask cluster's is measured on it: :func:`result_cost`)
+RESULT_COST = {"default": 2e-9}
+
+_RESULT_COSTS: dict = {}  # a Dask cluster's measured seconds per byte, by scheduler address
+
+#: seconds a worker takes to load the compiled kernels the first time it evaluates a chunk on
+#: them (numba's load from the disk cache: :data:`LINKAGE_COSTS`)
+WORKER_KERNEL_LOAD = LINKAGE_COSTS["numba"]["load"]
+
+#: True: a sweep given an executor sends it the tasks whatever the prediction (the tests and
+#: benchmarks of the executors' own paths); False: only when it is predicted faster
+ALWAYS_USE_EXECUTOR = False
+
+_SEEN: set = set()  # executors (by scheduler address) that have evaluated a sweep's chunks
+
+
+def _executor_key(executor):
+    client = getattr(executor, "_client", None)
+    return getattr(getattr(client, "scheduler", None), "address", None) or id(executor)
+
+
+def result_cost(executor, n: int = 2**21) -> float:
+    """Seconds per byte of a task's results on their way back from ``executor``. A Dask
+    cluster's: measured on it the first time (the median over three pairs of the difference
+    between a task returning ``n`` doubles and one returning nothing), then remembered for its
+    scheduler's address; other executors: :data:`RESULT_COST` ``["default"]``."""
+    if not _is_dask(executor):
+        return RESULT_COST["default"]
+    key = _executor_key(executor)
+    if key not in _RESULT_COSTS:
+        task_overhead(executor)  # the workers warmed up
+        extra = []
+        for i in range(3):  # arguments of their own: no task is a cached one
+            t = time.perf_counter()
+            executor.submit(_nothing, 100 + i).result()
+            t1 = time.perf_counter()
+            executor.submit(_zeros, n + i).result()
+            extra.append(time.perf_counter() - t1 - (t1 - t))
+        _RESULT_COSTS[key] = max(float(np.median(extra)), 0.0) / (8.0 * n)
+    return _RESULT_COSTS[key]
+
+
+def _on_this_host(executor) -> bool:
+    """Whether ``executor``'s workers run on this machine (a pool; a Dask cluster whose
+    workers' addresses are this host's), sharing its cores with this process."""
+    if not _is_dask(executor):
+        return True
+    import socket
+
+    try:
+        addresses = list(executor._client.scheduler_info()["workers"])
+        here = {"127.0.0.1", "localhost", socket.gethostname()}
+        with contextlib.suppress(OSError):
+            here.add(socket.gethostbyname(socket.gethostname()))
+    except Exception:  # noqa: BLE001 - a scheduler that does not answer: count them remote
+        return False
+    hosts = {a.split("://")[-1].rsplit(":", 1)[0].strip("[]") for a in addresses}
+    return all(a.startswith("inproc://") or h in here for a, h in zip(addresses, hosts))
+
+
+def _executor_plan(executor, spec, rows, n_chunks, threads=1) -> tuple[int, str]:
+    """Chunks per task of ``executor`` (:func:`_chunks_per_task`, rounded so that every worker
+    gets the same number of tasks), or 0 when this process is predicted faster, and a line
+    saying which and why. Predicted from the measured costs: here, the chunks' work
+    (:data:`EVALUATION_COST`) on ``threads`` threads (at most this machine's cores); on the
+    executor, the first round trip (the sweep's description to the workers), the workers'
+    first load of the kernels (:data:`WORKER_KERNEL_LOAD`, once per cluster), the tasks in
+    rounds over the workers (as many at once as this machine's cores when they run here), each
+    with its round trip (:func:`task_overhead`), and the results' bytes back
+    (:func:`result_cost`, measured only when the rest leaves the executor ahead)."""
+    per = _chunks_per_task(executor, spec, rows, n_chunks)
+    workers = executor_workers(executor)
+    tasks = -(-n_chunks // per)
+    if tasks > workers:  # a whole number of tasks per worker: none idles for the last ones
+        tasks -= tasks % workers
+        per = -(-n_chunks // tasks)
+        tasks = -(-n_chunks // per)
+    if rows is None:
+        cost = EVALUATION_COST["model"]
+    else:
+        cost = EVALUATION_COST["linkage kernel" if rows != 8 else "named kernel"]
+    chunk_s = spec.chunk * spec.phi.size * cost
+    designs = int(np.prod(spec.shape))
+    here = n_chunks * chunk_s / max(1, min(threads, cores()))
+    trip = task_overhead(executor)
+    at_once = min(workers, cores()) if _on_this_host(executor) else workers
+    start = trip
+    if _on_kernels(spec) and _executor_key(executor) not in _SEEN:
+        start += WORKER_KERNEL_LOAD
+    there = start + -(-tasks // at_once) * (per * chunk_s + trip)
+    if there < here or ALWAYS_USE_EXECUTOR:  # (else no need to measure the results' cost)
+        there += designs * (8 * len(spec.measures) + 1) * result_cost(executor)
+    kind = "a Dask cluster" if _is_dask(executor) else type(executor).__name__
+    if ALWAYS_USE_EXECUTOR or there < here:
+        _SEEN.add(_executor_key(executor))
+        return per, (
+            f"{kind} of {workers} workers: {tasks} tasks of {per} chunks (predicted {there:.2g} s "
+            f"against {here:.2g} s in this process)"
+        )
+    return 0, (
+        f"this process: {kind} of {workers} workers would not pay (predicted {there:.2g} s "
+        f"against {here:.2g} s here)"
+    )
 
 
 _EXECUTOR: contextvars.ContextVar = contextvars.ContextVar("sweep_executor", default=None)
@@ -1083,11 +1213,17 @@ def sweep(
         model (the reference the tests compare with).
     executor : a :class:`concurrent.futures.Executor` that evaluates the chunks (e.g.
         ``ProcessPoolExecutor()``, or ``dask.distributed.Client(address).get_executor()`` for
-        a cluster); each task evaluates a run of consecutive chunks where it runs -- enough
-        that the executor's per-task overhead (:func:`task_overhead`: a Dask cluster's
-        measured on it once) is at most 5 % of the task's work, at least two tasks per
-        worker -- and
-        returns only their measures, feasibility and parameters. A Linkage's kernel is built
+        a cluster), used only when it is predicted faster than this process
+        (:func:`_executor_plan`: the chunks' measured cost here against the executor's
+        measured round trip and cost per byte of results, its workers -- as many at once as
+        this machine's cores when they run on it -- and their first load of the kernels);
+        otherwise the sweep runs here, and ``Chart.ran_on`` says so with both predictions
+        (:data:`ALWAYS_USE_EXECUTOR` sends the tasks regardless). Each task evaluates a run of
+        consecutive chunks where it runs -- enough that the executor's per-task overhead
+        (:func:`task_overhead`: a Dask cluster's measured on it once) is at most 5 % of the
+        task's work, at least two tasks per worker and the same number for every worker --
+        and returns only their measures and feasibility (this process derives the parameters
+        of the designs itself: fewer bytes to send back). A Linkage's kernel is built
         by this process, in the background, into the disk cache; a task loads it from there
         when it is there and otherwise evaluates on the model (workers never compile it:
         workers on other hosts use the kernel their host's cache holds). The
@@ -1197,11 +1333,22 @@ def sweep(
             )
         size = 0 if executor == "local" else _pool_size(executor, spec, total, n_chunks)
         executor = pool = _process_pool(size) if size else None
-    if executor is not None:
+        ran_on = f"a pool of {size} processes" if size else "this process"
+    elif executor is not None:
+        per, ran_on = _executor_plan(executor, spec, rows, n_chunks, workers)
+        if not per:
+            executor = None
+    else:
+        ran_on = "this process"
+    if executor is None and workers > 1:
+        ran_on += f" on {workers} threads"
+    _log.info("sweep of %d designs: %s", total, ran_on)
+    remote = executor is not None
+    if remote:
         # any concurrent.futures.Executor (a process pool, a Dask cluster's executor): each
-        # task evaluates one block and sends back only its reduced measures
+        # task evaluates a run of chunks and sends back only their measures and feasibility
         payload = _dumps(spec)
-        per = _chunks_per_task(executor, spec, rows, n_chunks)
+        per = per if pool is None else _chunks_per_task(executor, spec, rows, n_chunks)
         firsts = range(0, n_chunks, per)
         counts = [min(per, n_chunks - c) for c in firsts]
         results = executor.map(_remote_block, [payload] * len(counts), firsts, counts)
@@ -1220,11 +1367,20 @@ def sweep(
                 ok_all[idx] = res.ok
                 for label, v in res.values.items():
                     out[label][idx] = v
-                for name, v in res.params.items():
-                    dest = par_out.get(name)
-                    if dest is None:  # not setdefault: its default would be built every chunk
-                        dest = par_out[name] = np.zeros(total)
-                    dest[idx] = v
+                if remote:  # a task's parameters: derived here, chunk by chunk
+                    first = res.start // chunk
+                    parts = [
+                        (c * chunk, _chunk_designs(spec, c)[3])
+                        for c in range(first, -(-(res.start + res.ok.size) // chunk))
+                    ]
+                else:
+                    parts = [(res.start, res.params)]
+                for at, params in parts:
+                    for name, v in params.items():
+                        dest = par_out.get(name)
+                        if dest is None:  # not setdefault: its default would be built each time
+                            dest = par_out[name] = np.zeros(total)
+                        dest[at : at + v.size] = v
                 if res.reason and not reason:
                     reason = res.reason
             bar.update(1 if res is None else -(-res.ok.size // chunk))
@@ -1264,6 +1420,7 @@ def sweep(
         elapsed=time.perf_counter() - t0,
         reason=reason,
         measures=dict(measures),
+        ran_on=ran_on,
     )
 
 
@@ -1449,5 +1606,6 @@ def chart_slider_crank(out, options):
         elapsed=chart.elapsed,
         best_on_grid=best,
         best_on_edge=bool(edge),
+        ran_on=chart.ran_on,
     )
     return StudyResult("slider-crank-chart", summary, data, [Path(f) for f in files])
