@@ -663,8 +663,9 @@ def test_an_angle_array_of_another_shape_or_a_number_takes_the_model(backend):
 @pytest.mark.parametrize("name", ["six-link"])
 def test_a_kernel_of_the_points_alone_is_the_models(name, backend):
     """``outputs="points"``: the points' jets alone, each the model's to 1e-12, a kernel and a
-    record of its own beside the full one's; ``linkage_batch`` refuses it (it builds the whole
-    motion); an unknown choice is refused by name."""
+    record of its own beside the full one's, its flags the full kernel's (the margins reduced,
+    not stored); ``linkage_batch`` takes it only when asked for the points
+    (``tests/test_linkage_kernels_points.py``); an unknown choice is refused by name."""
     lk, batch = _batch(name)
     full = lkk.linkage_kernel(lk)
     points = lkk.linkage_kernel(lk, outputs="points")
@@ -677,14 +678,16 @@ def test_a_kernel_of_the_points_alone_is_the_models(name, backend):
         [np.broadcast_to(np.ravel(batch.parameters[k]), (7,)) for k in points.names]
     )
     out, flags = points(params, phi, speed=(ms.rpm(600), 2.0))
-    assert np.all(flags[:, 0] == 0.0) and np.all(flags[:, 1] == np.inf)
+    _, full_flags = full(params, phi)
+    assert np.all(flags[:, 0] == 0.0) and np.all(flags[:, 1] > 0.0)
+    np.testing.assert_allclose(flags[:, 1], full_flags[:, 1], rtol=1e-13)
     ref = batch.motion(phi, speed=ms.rpm(600), epsilon=2.0)
     for _, key, off, _ in points.layout:
         for r, f in enumerate(FIELDS):
             want = np.broadcast_to(getattr(ref.points[key], f), out[off + r].shape)
             err = np.max(np.abs(out[off + r] - want)) / max(1.0, np.max(np.abs(want)))
             assert err < 1e-12, (key, f, err)
-    with pytest.raises(MechanismError, match="every output"):
+    with pytest.raises(MechanismError, match="outputs='points'"):
         lkk.linkage_batch(batch, phi, kernel=points)
     with pytest.raises(MechanismError, match="outputs must be"):
         lkk.linkage_kernel(lk, outputs="angles")

@@ -75,9 +75,19 @@ import numpy as np
 from ..errors import MechanismError
 from . import ops
 from .linkage_groups import _State
-from .mechanism import speed_pair
+from .mechanism import MAX_SPEED, speed_pair
 from .ops import cos_sin
-from .tracks import Jet, LinkTrack, Motion, PointJet, PointTrack, SliderTrack
+from .tracks import (
+    Jet,
+    LinkTrack,
+    Motion,
+    PointJet,
+    PointTrack,
+    SliderTrack,
+    _Links,
+    _Points,
+    _Sliders,
+)
 
 __all__ = [
     "LinkageKernel",
@@ -306,7 +316,9 @@ def _pool():
 def _trace(linkage, outputs: str = "all"):
     """``(casadi Function (input, parameters) -> outputs, parameter names, layout)``; with
     ``outputs="points"`` the points' jets alone (the rest of the solve drops out of the
-    trace)."""
+    trace), and after the rows of the layout the groups' assembly margins, which the kernel
+    reduces into its flags without storing them (:func:`_checks`): a design that cannot be
+    assembled is told from a toggle as on the full kernel."""
     import casadi as ca
 
     names = tuple(linkage.parameters)
@@ -327,6 +339,8 @@ def _trace(linkage, outputs: str = "all"):
     for kind in ("pressure", "transmission", "margins", "extra") if outputs == "all" else ():
         for key, value in getattr(st, kind).items():
             put(kind, key, (value,))
+    if outputs != "all":  # the margins, for the flags alone: outside the layout
+        rows.extend(ca.SX(v) for v in st.margins.values())
     f = ca.Function("linkage", [x, p], [ca.vertcat(*rows)])
     return f, names, tuple(layout)
 
@@ -345,6 +359,14 @@ def _stamp() -> str:
             h.update(name.encode())
             code_digest(h, fn.__code__)
     return h.hexdigest()[:16]
+
+
+def _checks(layout, writes) -> set:
+    """The rows of the traced function past its ``layout``'s: assembly margins the kernel
+    reduces into its flags (the smallest margin) without storing them or testing them finite
+    (the kernel of the points alone, :func:`_trace`)."""
+    stored = sum(size for *_, size in layout)
+    return {r for r, _ in writes if r >= stored}
 
 
 def _orders(layout) -> dict:
@@ -526,15 +548,18 @@ def _source(f, layout, stamp) -> str:
     # without fast-math flags (a sum of an output and its negation must stay NaN)
     finite, fixed, least = ["fixed"], [], ["math.inf"]
     orders = _orders(layout)
-    margins = {off for kind, _, off, _ in layout if kind == "margins"}
+    checks = _checks(layout, writes)
+    margins = {off for kind, _, off, _ in layout if kind == "margins"} | checks
     raw = dict(writes)
     for r, name in sorted(writes):
+        if r in margins:
+            least = [f"min({least[0]}, {name})"]
+        if r in checks:
+            continue
         order, first = orders.get(r, (0, None))
         value = (name, f"w * {name}", f"w2 * {name} + e * {raw.get(first)}")[order]
         lines.append(ind + f"out[{r}, i, j] = {value}")
         (finite if varies[name] else fixed).append(name)
-        if r in margins:
-            least = [f"min({least[0]}, {name})"]
     fixed = fixed or ["0.0"]
     lines.insert(lines.index("    w2 = w * w"), f"    fixed = finite_fixed({', '.join(fixed)})")
     at = lines.index("@@finite@@")
@@ -652,16 +677,19 @@ def _c_source(f, layout) -> str:
     of 64 whose finite tests and margins are reduced after each block)."""
     hoisted, body, writes, varies = _program(f, _C)
     orders = _orders(layout)
-    margins = {off for kind, _, off, _ in layout if kind == "margins"}
+    checks = _checks(layout, writes)
+    margins = {off for kind, _, off, _ in layout if kind == "margins"} | checks
     raw = dict(writes)
     fixed, finite, stores, least = [], ["fixed"], [], "INFINITY"
     for r, name in sorted(writes):
+        if r in margins:
+            least = f"({name} < {least} ? {name} : {least})"  # Python's min(least, name)
+        if r in checks:
+            continue
         order, first = orders.get(r, (0, None))
         value = (name, f"w * {name}", f"w2 * {name} + e * {raw.get(first)}")[order]
         stores.append(f"o[{r} * nm + j] = {value};")
         (finite if varies[name] else fixed).append(name)
-        if r in margins:
-            least = f"({name} < {least} ? {name} : {least})"  # Python's min(least, name)
     ind, ind2 = " " * 8, " " * 16
     return "\n".join([
         _C_PRELUDE,
@@ -1162,18 +1190,32 @@ def _built_numba(linkage, names, layout, source, index, record) -> LinkageKernel
 
 
 # -------------------------------------------------------------------------------- batches
-def linkage_batch(linkage, phi, speed=None, workspace=None, kernel=None, wait=True):
+def linkage_batch(
+    linkage, phi, speed=None, workspace=None, kernel=None, wait=True, outputs: str = "all"
+):
     """The motion of a batch of numeric designs of ``linkage`` (each parameter a number or an
     array of ``n`` designs) at the inputs ``phi`` (1-D) on its compiled kernel.
 
     Returns ``(motion, good, failed)`` or None (no kernel, symbolic values, ``phi`` not 1-D;
     with ``wait=False``, also while the kernel is being built: see :func:`linkage_kernel`):
     ``motion`` has ``(n, m)`` tracks, views into ``workspace``'s block (valid until its next
-    use); ``good`` marks the designs whose every output is finite -- their values are the
-    model's to round-off -- and ``failed`` those where an assembly margin falls below -1e-6
-    (a group cannot close, by a margin far beyond round-off: the model raises there). The
-    others (a toggle, or within round-off of closing) are the model's to judge.
+    use; without a workspace, a block of the call's own); ``good`` marks the designs whose
+    every output is finite -- their values are the model's to round-off -- and ``failed``
+    those where an assembly margin falls below -1e-6 (a group cannot close, by a margin far
+    beyond round-off: the model raises there). The others (a toggle, or within round-off of
+    closing) are the model's to judge.
+
+    ``outputs="points"`` runs the kernel of the points alone (:func:`linkage_kernel`; some
+    1.7 x faster per evaluation for a six-bar): the motion holds every point's track
+    (position, velocity, acceleration) and nothing else -- its ``links``, ``sliders``,
+    ``extra``, ``pressure_angles`` and ``raw_transmission_angles`` are empty and its
+    ``pressure_angle`` and ``raw_transmission_angle`` None (not computed, rather than zeros).
+    ``good`` then tells every point's outputs finite, and ``failed`` is judged on the groups'
+    assembly margins as for every output (the kernel reduces them without storing them).
+    A ``kernel`` given must be of the ``outputs`` asked for.
     """
+    if outputs != "all" and outputs != "points":
+        raise MechanismError(f"outputs must be 'all' or 'points', got {outputs!r}")
     values = linkage._values
     scalars = {*map(type, values.values())} == {float}
     if not scalars and any(ops.is_symbolic(v) for v in values.values()):
@@ -1181,15 +1223,19 @@ def linkage_batch(linkage, phi, speed=None, workspace=None, kernel=None, wait=Tr
     phi = np.asarray(phi, dtype=float)
     if phi.ndim != 1:
         return None
-    kernel = kernel or linkage_kernel(linkage, wait)
     if kernel is None:
-        return None
-    if kernel.kinds != "all":
+        kernel = linkage_kernel(linkage, wait, outputs)
+        if kernel is None:
+            return None
+    elif kernel.kinds != outputs:
+        what = "every output" if kernel.kinds == "all" else f"the {kernel.kinds} alone"
         raise MechanismError(
-            f"linkage_batch takes a kernel of every output, not of the {kernel.kinds} alone"
+            f"linkage_batch(..., outputs={outputs!r}) was given a kernel of {what} "
+            f"(linkage_kernel(..., outputs={kernel.kinds!r})): pass outputs={kernel.kinds!r}"
         )
+    recipe = _recipe(linkage, kernel)
     if scalars:  # one design: its row at once
-        params = np.array([[values[k] for k in kernel.names]])
+        params = np.array(recipe.values(values))[None]
         n = 1
     else:
         cols = [np.asarray(values[k], dtype=float).reshape(-1) for k in kernel.names]
@@ -1202,11 +1248,21 @@ def linkage_batch(linkage, phi, speed=None, workspace=None, kernel=None, wait=Tr
         out = workspace.block(n, m, rows=kernel.outputs)
     else:
         out = np.empty((kernel.outputs, n, m))
-    omega, eps = speed_pair(speed, 0.0)
+    if speed is None:
+        omega, eps = 1.0, 0.0
+    elif type(speed) is float and abs(speed) <= MAX_SPEED:  # (False for NaN)
+        omega, eps = speed, 0.0
+    else:
+        omega, eps = speed_pair(speed, 0.0)  # checked, or refused by name
     _, flags = kernel(params, phi, out, speed=(omega, eps))
-    good = flags[:, 0] == 0.0
-    failed = (flags[:, 1] < -1e-6) > good  # and not good
-    return _recipe(linkage, kernel).motion(out, phi, omega, eps), good, failed
+    if n == 1:  # one design: its two flags as numbers (a third of the time of three ufuncs)
+        ((finite, least),) = flags.tolist()
+        ok = finite == 0.0
+        good, failed = np.array([ok]), np.array([least < -1e-6 and not ok])
+    else:
+        good = flags[:, 0] == 0.0
+        failed = (flags[:, 1] < -1e-6) > good  # and not good
+    return recipe.motion(out, phi, omega, eps), good, failed
 
 
 def held_kernel(linkage) -> LinkageKernel | None:
@@ -1236,24 +1292,69 @@ def one_motion(linkage, phi, omega, eps, kernel) -> Motion | None:
     """The :class:`Motion` of ``linkage``'s one numeric design (every parameter a float) at the
     1-D inputs ``phi`` on ``kernel``, its tracks ``(m,)`` views of a block of its own; None
     where an output is not finite (the model then judges: it raises where a group cannot
-    close)."""
-    values = linkage._values
+    close) or ``omega`` or ``eps`` is not one number.
+
+    On the C kernel the block, the design's flags and its parameters are one allocation
+    whose address is taken once, and the loop is called directly (what
+    :meth:`LinkageKernel.__call__` checks is known here: one design of ``len(names)``
+    floats, contiguous inputs, one thread)."""
+    if type(omega) is not float or type(eps) is not float:
+        if np.ndim(omega) or np.ndim(eps):
+            return None
+        omega, eps = float(omega), float(eps)  # (the motion keeps the numbers given)
+    recipe = _recipe(linkage, kernel)
+    if kernel.backend != "c":
+        out = np.empty((kernel.outputs, 1, phi.shape[0]))
+        _, flags = kernel(np.array([recipe.values(linkage._values)]), phi, out, None, False,
+                          (omega, eps))  # fmt: skip
+        if flags[0, 0] != 0.0:
+            return None
+        return recipe.make(out.reshape(kernel.outputs, phi.shape[0]), phi, omega, eps)
+    if not (type(phi) is np.ndarray and phi.dtype is _F64 and phi.flags.c_contiguous):
+        phi = np.ascontiguousarray(phi, dtype=float)
     m = phi.shape[0]
-    out = np.empty((kernel.outputs, 1, m))
-    _, flags = kernel(np.array([[values[k] for k in kernel.names]]), phi, out, None, False,
-                      (omega, eps))  # fmt: skip
-    if flags[0, 0] != 0.0:
+    size = kernel.outputs * m
+    block = np.empty(size + 2 + len(kernel.names))  # outputs, flags, parameters
+    block[size + 2 :] = recipe.values(linkage._values)
+    at = _address(block)
+    c, s = cos_sin(phi)
+    grid = _GRID_ADDRESSES[0]
+    if grid is None or grid[0] is not phi or grid[1] is not c or grid[2] is not s:
+        grid = _GRID_ADDRESSES[0] = (phi, c, s, *(_address(a) for a in (phi, c, s)))
+    kernel.serial(1, m, 0, 1, len(kernel.names), at + 8 * (size + 2), grid[3], grid[4],
+                  grid[5], omega, eps, at, at + 8 * size)  # fmt: skip
+    if block[size] != 0.0:
         return None
-    return _recipe(linkage, kernel).motion(out.reshape(kernel.outputs, m), phi, omega, eps)
+    return recipe.make(block[:size].reshape(kernel.outputs, m), phi, omega, eps)
 
 
 class _Recipe:
-    """Where each field of a linkage's :class:`Motion` lies in its kernel's block: row indices
-    read back from the model's own ``Linkage._motion`` once per structure (which track is the
-    main slider, whose pressure angle is the motion's), so that a batch's motion is made of
-    views of the block without walking the model's state again."""
+    """Where each field of a linkage's :class:`Motion` lies in its kernel's block, and a
+    function generated from it that makes the motion of a block (:attr:`make`).
+
+    The row indices are read back from the model's own ``Linkage._motion`` once per structure
+    (which track is the main slider, whose pressure angle is the motion's); a kernel of the
+    points alone has the points' rows of its layout and nothing else. ``make(rows, phi,
+    omega, eps)`` takes the block (its first axis the rows) or its rows, and builds every
+    track and dict of the motion in straight-line code (:func:`_maker`): for one design the
+    Python around the kernel is what a call costs beside the kernel's own 15-25 us."""
 
     def __init__(self, linkage, kernel):
+        names = kernel.names
+        self.values = itemgetter(*names) if len(names) > 1 else (lambda v: (v[names[0]],))
+        self.rows = kernel.outputs
+        self._last = None  # (block's base, shape, its motion): the last workspace block's
+        if kernel.kinds != "all":
+            point_fields = tuple(f.name for f in dataclasses.fields(PointTrack))
+            self.points = tuple(
+                (key, tuple(zip(point_fields, range(off, off + size))))
+                for kind, key, off, size in kernel.layout
+                if kind == "points"
+            )
+            self.links = self.sliders = self.pressures = self.transmissions = self.extra = ()
+            self.pressure = self.transmission = None
+            self.make = _maker(self)
+            return
         rows = np.arange(1.0, kernel.outputs + 1.0).reshape(-1, 1, 1)  # row r holds r + 1
         st = _State(np.zeros(1), linkage._values, True, linkage._bodies)
         targets = {kind: getattr(st, kind) for kind in _KINDS}
@@ -1267,14 +1368,14 @@ class _Recipe:
         def row(value):  # the row a field of the reference motion is a view of (-1: none)
             return int(np.asarray(value).reshape(-1)[0]) - 1
 
-        def tracks(named):  # a track's rows picked from the block's by one C call
+        def tracks(named):  # per track, (field, row) in the dataclass's order
             return tuple(
-                (k, itemgetter(*(row(v) for v in vars(t).values()))) for k, t in named.items()
+                (k, tuple((f, row(v)) for f, v in vars(t).items())) for k, t in named.items()
             )
 
         self.points, self.links = tracks(ref.points), tracks(ref.links)
         self.sliders = tracks(ref.sliders)
-        self.pressure = row(ref.pressure_angle)
+        self.pressure = row(ref.pressure_angle)  # -1: zeros (no group has a pressure angle)
         mu = ref.raw_transmission_angle
         self.transmission = None if mu is None else row(mu)
         self.pressures = tuple((k, row(v)) for k, v in ref.pressure_angles.items())
@@ -1283,52 +1384,79 @@ class _Recipe:
             (k, tuple((kk, row(vv)) for kk, vv in v.items()) if isinstance(v, dict) else row(v))
             for k, v in ref.extra.items()
         )
-
-        self._views = None  # (block's base, shape, fields): the last block's views
-
-    def fields(self, out) -> tuple:
-        """The motion's tracks and angles as views of the block ``out``; remembered for the
-        last block (a workspace's block is the same memory call after call; the reference kept
-        to its base keeps that memory from being reused by another array)."""
-        base = out.base
-        last = self._views
-        if last is not None and last[0] is base and last[1] == out.shape and base is not None:
-            return last[2]
-        rows = list(out)  # the block's rows as views, made at once
-        point, link = PointTrack.of, LinkTrack.of
-        got = (
-            {k: point(*pick(rows)) for k, pick in self.points},
-            {k: link(*pick(rows)) for k, pick in self.links},
-            {k: SliderTrack(*pick(rows)) for k, pick in self.sliders},
-            rows[self.pressure] if self.pressure >= 0 else np.zeros(out.shape[1:]),
-            None if self.transmission is None else rows[self.transmission],
-            {
-                k: {kk: rows[r] for kk, r in v} if isinstance(v, tuple) else rows[v]
-                for k, v in self.extra
-            },
-            {k: rows[r] for k, r in self.pressures},
-            {k: rows[r] for k, r in self.transmissions},
-        )
-        self._views = (base, out.shape, got)
-        return got
+        self.make = _maker(self)
 
     def motion(self, out, phi, omega, eps) -> Motion:
-        """The :class:`Motion` of the kernel's block ``out`` (its tracks views of the block;
-        its dicts its own)."""
-        points, links, sliders, pressure, mu, extra, pressures, mus = self.fields(out)
-        return Motion(
-            phi=phi,
-            omega=omega,
-            epsilon=eps,
-            points=points,  # copied into the motion's own Tracks dicts
-            links=links,
-            pressure_angle=pressure,
-            sliders=sliders,
-            raw_transmission_angle=mu,
-            extra={k: dict(v) if type(v) is dict else v for k, v in extra.items()},
-            pressure_angles=dict(pressures),
-            raw_transmission_angles=dict(mus),
-        )
+        """The :class:`Motion` of the kernel's block ``out``, its tracks views of the block.
+        A block of the caller's own gets tracks and dicts of its own (:attr:`make`). A
+        workspace's block is the same memory call after call: its motion is made once and
+        remembered while the block is (the reference kept to its base keeps that memory from
+        being reused by another array), and each call gets that motion's tracks -- frozen
+        views of the same rows -- in dicts of its own."""
+        base = out.base
+        if base is None:
+            return self.make(out, phi, omega, eps)
+        last = self._last
+        if last is None or last[0] is not base or last[1] != out.shape:
+            last = self._last = (base, out.shape, self.make(out, phi, omega, eps))
+        m = last[2]  # (the tracks hold the kernel's time derivatives: no omega in them)
+        return Motion._of_tracks(
+            phi, omega, eps, (_Points(m.points), _Links(m.links), _Sliders(m.sliders)),
+            m.pressure_angle, m.raw_transmission_angle,
+            {k: dict(v) if type(v) is dict else v for k, v in m.extra.items()},
+            dict(m.pressure_angles), dict(m.raw_transmission_angles),
+        )  # fmt: skip
+
+
+def _maker(recipe: _Recipe):
+    """``make(rows, phi, omega, eps)``: the :class:`Motion` of a kernel's block (or of its
+    rows), written out for ``recipe`` as straight-line Python -- one unpacking of the rows,
+    each track made without its dataclass's ``__init__`` (as ``PointTrack.of``), each dict a
+    new one -- and compiled once per recipe (the loops over tracks and fields and the calls
+    per track they replace were most of a one-design call's Python)."""
+    consts: list = []
+
+    def key(k):  # a str key as its literal, any other as a constant
+        if type(k) is str:
+            return repr(k)
+        consts.append(k)
+        return f"K[{len(consts) - 1}]"
+
+    lines = [
+        "def make(rows, phi, omega, eps):",
+        "    " + ", ".join(f"r{i}" for i in range(recipe.rows)) + ", = rows",
+    ]
+    for name, kind, cls in (
+        ("points", "_Points", "PointTrack"),
+        ("links", "_Links", "LinkTrack"),
+        ("sliders", "_Sliders", "SliderTrack"),
+    ):
+        lines.append(f"    {name} = {kind}()")
+        for k, fields in getattr(recipe, name):
+            lines.append(f"    {name}[{key(k)}] = t = new({cls})")
+            lines.append("    d = t.__dict__")
+            lines += [f"    d[{f!r}] = r{r}" for f, r in fields]
+    p = recipe.pressure
+    pressure = "None" if p is None else ("np.zeros(r0.shape)" if p < 0 else f"r{p}")
+    mu = "None" if recipe.transmission is None else f"r{recipe.transmission}"
+
+    def mapping(pairs):
+        return "{" + ", ".join(f"{key(k)}: r{r}" for k, r in pairs) + "}"
+
+    extra = ", ".join(
+        f"{key(k)}: " + (mapping(v) if isinstance(v, tuple) else f"r{v}") for k, v in recipe.extra
+    )
+    lines.append(
+        f"    return of_tracks(phi, omega, eps, (points, links, sliders), {pressure}, {mu}, "
+        f"{{{extra}}}, {mapping(recipe.pressures)}, {mapping(recipe.transmissions)})"
+    )
+    space = {
+        "new": object.__new__, "np": np, "K": tuple(consts), "of_tracks": Motion._of_tracks,
+        "PointTrack": PointTrack, "LinkTrack": LinkTrack, "SliderTrack": SliderTrack,
+        "_Points": _Points, "_Links": _Links, "_Sliders": _Sliders,
+    }  # fmt: skip
+    exec(compile("\n".join(lines), "<linkage motion recipe>", "exec"), space)  # noqa: S102
+    return space["make"]
 
 
 _RECIPES: dict = {}
