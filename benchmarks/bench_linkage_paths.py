@@ -19,13 +19,16 @@ printed as the three runs' times and their ratios to the numpy model's time in t
   (:func:`plain_numpy`), checked against the model to 1e-12;
 * ``plain numpy, positions``: the points' positions alone, by hand;
 * ``kernel via linkage_batch``: the generated kernel through the API (the Motion of the batch,
-  every output); ``kernel raw``: the kernel's call into a reused block. Both in chunks of a 2
+  every output; for one design also ``kernel via one_motion``, what
+  ``Linkage.motion(kernel=True)`` calls, a block of its own per call); ``kernel raw``: the
+  kernel's call into a reused block. Both in chunks of a 2
   MiB block (:data:`KERNEL_BLOCK`, a few designs), which stays in the caches; ``kernel raw,
   chunks of 182 designs`` shows the cost of a 33 MB block written out to memory. These rows
   are the default code generator's (C where a compiler is found); ``..., numba`` the same on
   numba's kernel, side by side; ``kernel raw, points only``: the kernel of the points'
   positions, velocities and accelerations alone (``outputs="points"``: what pylinkage's
-  kinematics computes);
+  kinematics computes), and ``linkage_batch, points only`` the same through the API (the
+  Motion of the points' tracks);
 * pylinkage 1.3.0 (``pip install pylinkage==1.3.0``; the rows are skipped without it): its
   position loop ``Linkage.step`` (one design after the other; at 10,000 designs on a sample of
   10, scaled, and marked so), its compiled ``step_fast``, its ensemble API
@@ -413,8 +416,15 @@ def paths(name, n, have_pylinkage):
         ),
         "kernel raw": chunks(raw_call(klk, ksize), kcount),
     }
-    points = lkk.linkage_kernel(lk, outputs="points")
-    rows["kernel raw, points only"] = chunks(raw_call(klk, ksize, points), kcount)
+    if n == 1:  # what Linkage.motion(kernel=True) calls
+        rows["kernel via one_motion"] = lambda: lkk.one_motion(lk, PHI, SPEED, 0.0, kernel)
+    points = lkk.linkage_kernel(lk, outputs="points")  # in blocks of the same size
+    psize = min(n, kernel_chunk(points))
+    pcount, plk, ws_points = -(-n // psize), designs(name, psize), BatchWorkspace()
+    rows["kernel raw, points only"] = chunks(raw_call(plk, psize, points), pcount)
+    rows["linkage_batch, points only"] = chunks(
+        lambda: lkk.linkage_batch(plk, PHI, SPEED, ws_points, points, outputs="points"), pcount
+    )
     for backend, other in list(kernels.items())[1:]:
         ws_other = BatchWorkspace()
         rows[f"kernel via linkage_batch, {backend}"] = chunks(
@@ -630,7 +640,7 @@ def show(report, repeat, runs):
             for what, (slow, fast) in GOALS.items():
                 if slow in got and fast in got:
                     ratio = " ".join(f"{a / b:6.2f}" for a, b in zip(got[slow], got[fast]))
-                    print(f"    {what:64s} x {ratio}")
+                    print(f"    {what:76s} x {ratio}")
 
 
 #: the ratios the paths are judged by (issue 31): ``{what: (row, row)}``, the first row's time
@@ -656,6 +666,10 @@ GOALS = {
         "kernel via linkage_batch",
         "kernel raw",
     ),
+    "the kernel's time via one_motion / raw (goal <= 2)": (
+        "kernel via one_motion",
+        "kernel raw",
+    ),
     "kernel raw faster than pylinkage's kinematics (goal >= 30)": (
         "pylinkage step_fast_with_kinematics",
         "kernel raw",
@@ -675,6 +689,18 @@ GOALS = {
     ),
     "kernel raw, points only, faster than plain numpy, positions (goal >= 1)": (
         "plain numpy, positions",
+        "kernel raw, points only",
+    ),
+    "linkage_batch, points only, faster than pylinkage's kinematics (goal >= 30)": (
+        "pylinkage step_fast_with_kinematics",
+        "linkage_batch, points only",
+    ),
+    "linkage_batch, points only, faster than plain numpy, positions (goal >= 1)": (
+        "plain numpy, positions",
+        "linkage_batch, points only",
+    ),
+    "linkage_batch, points only: its time / the raw points' kernel's": (
+        "linkage_batch, points only",
         "kernel raw, points only",
     ),
 }

@@ -1218,7 +1218,7 @@ def linkage_batch(
         raise MechanismError(f"outputs must be 'all' or 'points', got {outputs!r}")
     values = linkage._values
     scalars = {*map(type, values.values())} == {float}
-    if not scalars and any(ops.is_symbolic(v) for v in values.values()):
+    if not scalars and ops.is_symbolic(*values.values()):
         return None
     phi = np.asarray(phi, dtype=float)
     if phi.ndim != 1:
@@ -1237,11 +1237,17 @@ def linkage_batch(
     if scalars:  # one design: its row at once
         params = np.array(recipe.values(values))[None]
         n = 1
-    else:
-        cols = [np.asarray(values[k], dtype=float).reshape(-1) for k in kernel.names]
-        n = max(c.size for c in cols)
-        params = np.empty((n, len(cols)))
-        for j, c in enumerate(cols):
+    else:  # the numbers in one broadcast row, then the arrays (the varied parameters)
+        got = recipe.values(values)
+        arrays = [
+            (j, np.asarray(v, dtype=float).reshape(-1))
+            for j, v in enumerate(got)
+            if type(v) is not float
+        ]
+        n = max(c.size for _, c in arrays)
+        params = np.empty((n, len(got)))
+        params[:] = [v if type(v) is float else 0.0 for v in got]
+        for j, c in arrays:
             params[:, j] = c
     m = phi.size
     if workspace is not None:
@@ -1260,8 +1266,9 @@ def linkage_batch(
         ok = finite == 0.0
         good, failed = np.array([ok]), np.array([least < -1e-6 and not ok])
     else:
-        good = flags[:, 0] == 0.0
-        failed = (flags[:, 1] < -1e-6) > good  # and not good
+        finite, least = flags.T
+        good = finite == 0.0
+        failed = (least < -1e-6) > good  # and not good
     return recipe.motion(out, phi, omega, eps), good, failed
 
 
