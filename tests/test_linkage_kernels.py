@@ -626,8 +626,9 @@ def test_the_c_arctan2_is_numpys_to_two_ulp(tmp_path, monkeypatch):
 def test_one_designs_motion_on_the_kernel_is_the_models(name, backend, monkeypatch):
     """``Linkage.motion(..., kernel=True)`` of one design on its structure's kernel (built on
     first use): every output the model's to 1e-12, tracks of the inputs' shape, a block of its
-    own per call; the default is the model's, bit for bit, whether a kernel is held or not; a
-    design the kernel finds not finite goes to the model, which raises."""
+    own per call; ``kernel=False`` is the model's, bit for bit, whether a kernel is held or not,
+    the default the held kernel's; a design the kernel finds not finite goes to the model,
+    which raises."""
     monkeypatch.setattr(lkk, "_KERNELS", {})
     lk, _ = _batch(name)
     phi, speed = _phi(lk), ms.rpm(600)
@@ -642,9 +643,13 @@ def test_one_designs_motion_on_the_kernel_is_the_models(name, backend, monkeypat
     assert fast.omega == speed and fast.epsilon == 3.0
     again = lk.motion(phi, speed=speed, epsilon=3.0, kernel=True)
     assert not np.shares_memory(again.points["A"].x, fast.points["A"].x)  # its own block
-    after = lk.motion(phi, speed=speed, epsilon=3.0)  # the model, although a kernel is held
+    after = lk.motion(phi, speed=speed, epsilon=3.0, kernel=False)  # the model, held or not
     for k, t in model.points.items():
         for a, b in zip(vars(t).values(), vars(after.points[k]).values()):
+            np.testing.assert_array_equal(a, b)
+    held = lk.motion(phi, speed=speed, epsilon=3.0)  # the default takes a held kernel
+    for k, t in fast.points.items():
+        for a, b in zip(vars(t).values(), vars(held.points[k]).values()):
             np.testing.assert_array_equal(a, b)
     if name == "six-link":
         with pytest.raises(MechanismError, match="cannot|assembl"):

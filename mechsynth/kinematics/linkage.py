@@ -40,6 +40,7 @@ from __future__ import annotations
 import math
 import numbers
 import re
+import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -192,6 +193,45 @@ class Topology:
 _KERNEL_MODULE: list = [None]  # linkage_kernels, once imported
 
 
+def _kernels():
+    """The ``linkage_kernels`` module (imported once: a function-level import costs a
+    microsecond a call)."""
+    lkk = _KERNEL_MODULE[0]
+    if lkk is None:
+        from . import linkage_kernels as lkk
+
+        _KERNEL_MODULE[0] = lkk
+    return lkk
+
+
+#: seconds of CPU a structure's kernel costs this process, per backend
+#: (``linkage_kernels.kernel_backend``): ``"build"``, its first build (the C compiler's or
+#: numba's), and ``"load"``, its load from the disk cache when this machine built it before
+#: (measured on this 2-core machine: ``benchmarks/bench_sweep_switch.py``). A structure's
+#: one-design motions run on the model until their summed time reaches this price
+#: (:meth:`Linkage.motion`, ``kernel=None``): a process never spends on the kernel more than
+#: it has spent on the model, and one that keeps calling gains the kernel's 3-4 x from then on.
+KERNEL_COSTS = {
+    "c": {"build": 0.66, "load": 0.0047},
+    "numba": {"build": 5.6, "load": 0.60},
+}
+
+_TALLY: dict = {}  # id(groups) -> [groups, seconds on the model, the kernel's price]
+
+
+def _kernel_price(linkage, lkk) -> float:
+    """Seconds of model time after which ``linkage``'s structure asks for its kernel:
+    :data:`KERNEL_COSTS` of this process's backend, a load when the disk cache holds the
+    kernel (infinite when there is no backend or no kernel for it)."""
+    from .linkage_groups import FollowerGroup
+
+    backend = lkk.kernel_backend(probe=False)
+    if backend is None or any(isinstance(g, FollowerGroup) for g in linkage.groups):
+        return math.inf
+    costs = KERNEL_COSTS[backend]
+    return costs["load"] if lkk.is_compiled(linkage) else costs["build"]
+
+
 @dataclass(frozen=True)
 class _Plan:
     """What a motion reads of a linkage's structure, derived once per structure (when the
@@ -305,6 +345,7 @@ class Linkage(Drawable):
         # batch (the guard's loop over them left out)
         plain = all(type(x) is float or type(x) is int for x in values)
         self._guarded = {} if plain else self._values
+        self._floats = all(type(x) is float for x in values)  # one design of numbers
         self._plan = _Plan.of(self) if self._groups else None
         self._frozen = True
         return self
@@ -1092,19 +1133,28 @@ class Linkage(Drawable):
         st = self._solve(phi)
         return st.points, st.links, st.sliders
 
-    def motion(self, phi, speed=None, epsilon=0.0, *, kernel: bool = False) -> Motion:
+    def motion(self, phi, speed=None, epsilon=0.0, *, kernel: bool | None = None) -> Motion:
         """Motion over the inputs ``phi``: crank angles (rad), or the displacements ``s`` (m)
         of a driving slider (:meth:`slider`).
 
-        With ``kernel=True``, one design (every parameter a number) at a 1-D array of inputs
-        is evaluated on the compiled kernel of its structure
-        (:func:`~mechsynth.kinematics.linkage_kernels.linkage_kernel`: compiled once per
-        machine, about a second with a C compiler, then loaded from the disk cache) -- every
-        output within 1e-12 of the model's, some 4 x faster than the model for a six-bar at
-        360 angles; anything else (batches, symbols, a cam follower, no compiler nor numba,
-        a design whose outputs are not all finite) takes the model, which raises where a group
-        cannot close. The default is the model itself: its numbers do not depend on what
-        this process compiled before.
+        One design (every parameter a number) at a 1-D array of inputs may be evaluated on the
+        compiled kernel of its structure
+        (:func:`~mechsynth.kinematics.linkage_kernels.linkage_kernel`) -- every output within
+        1e-12 of the model's, some 4 x faster than the model for a six-bar at 360 angles:
+
+        - ``kernel=None`` (the default) decides as a just-in-time compiler does: the model
+          serves the first calls of a structure while their time is summed; once that time
+          has paid for the kernel (its load from the disk cache when this machine built it
+          before, about 5 ms; else its build, about 0.7 s of CPU with a C compiler:
+          :data:`KERNEL_COSTS`), the kernel is loaded or built in the background
+          (never waited for) and serves every later call of the structure in this process.
+        - ``kernel=True`` takes the kernel at once (built or loaded on this call).
+        - ``kernel=False`` always takes the model: its numbers then do not depend on what this
+          process compiled before (``$MECHSYNTH_KERNELS=off`` does so for every call).
+
+        Anything else (batches, symbols, a speed or acceleration that varies with the input, a
+        cam follower, no compiler nor numba, a design whose outputs are not all finite) takes
+        the model, which raises where a group cannot close.
 
         Parameters
         ----------
@@ -1114,6 +1164,7 @@ class Linkage(Drawable):
             driving slider's velocity (m/s); None gives analogs (derivatives with respect to
             the input: per rad, or per m of a driving slider).
         epsilon : the input's acceleration (rad/s^2, or m/s^2), with a speed.
+        kernel : None (decide from the measured costs), True (the kernel) or False (the model).
 
         Returns
         -------
@@ -1149,22 +1200,51 @@ class Linkage(Drawable):
                     eps,
                     arrays=self._motion_arrays,
                 )
-                if kernel and type(phi) is np.ndarray and phi.ndim == 1:
-                    fast = self._on_kernel(phi, omega, eps)
-                    if fast is not None:
-                        return fast
+                if (
+                    kernel is not False and self._floats and type(phi) is np.ndarray
+                    and phi.ndim == 1 and not np.ndim(omega) and not np.ndim(eps)
+                ):  # fmt: skip
+                    if kernel:
+                        fast = self._on_kernel(phi, omega, eps)
+                        if fast is not None:
+                            return fast
+                    else:
+                        return self._jit(phi, omega, eps)
         return self._motion(self._solve(phi), phi, omega, eps)
+
+    def _jit(self, phi, omega, eps) -> Motion:
+        """The motion of this one numeric design at the 1-D inputs ``phi``: on its structure's
+        kernel when this process holds it, else on the model, whose time is summed per
+        structure until it pays for the kernel (:meth:`motion`, ``kernel=None``)."""
+        lkk = _kernels()
+        kernel = lkk.held_kernel(self)
+        if kernel is not None:
+            fast = lkk.one_motion(self, phi, omega, eps, kernel)
+            if fast is not None:
+                return fast
+            return self._motion(self._solve(phi), phi, omega, eps)
+        groups = self._groups
+        tally = _TALLY.get(id(groups))
+        if tally is None or tally[0] is not groups:
+            if len(_TALLY) > 256:  # bounded: linkages built anew in a loop add identities
+                _TALLY.clear()
+            tally = _TALLY[id(groups)] = [groups, 0.0, None]
+        start = time.perf_counter()
+        motion = self._motion(self._solve(phi), phi, omega, eps)
+        tally[1] += time.perf_counter() - start
+        if tally[2] is None:  # the price of the kernel, asked once per structure
+            tally[2] = _kernel_price(self, lkk)
+        if tally[1] >= tally[2]:
+            tally[2] = math.inf  # asked once: it arrives in the background, or never
+            lkk.linkage_kernel(self, wait=False)
+        return motion
 
     def _on_kernel(self, phi, omega, eps) -> Motion | None:
         """The motion of this one numeric design on its structure's kernel (built or loaded on
         first use), or None (no kernel, parameters not all numbers, an output not finite)."""
-        if {*map(type, self._values.values())} != {float}:
+        if not self._floats:
             return None
-        lkk = _KERNEL_MODULE[0]
-        if lkk is None:  # imported once (a function-level import costs a microsecond a call)
-            from . import linkage_kernels as lkk
-
-            _KERNEL_MODULE[0] = lkk
+        lkk = _kernels()
         kernel = lkk.held_kernel(self) or lkk.linkage_kernel(self)
         if kernel is None:
             return None
