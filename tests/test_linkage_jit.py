@@ -115,3 +115,16 @@ def test_held_kernels_serve_the_default_not_false_nor_batches(kernels):
     # a design the kernel cannot close goes to the model, which names the group
     with pytest.raises(MechanismError, match="cannot|assembl"):
         lk(AhBh=0.2).motion(phi)
+
+
+def test_kernels_off_puts_every_motion_on_the_model(kernels, monkeypatch):
+    lk, out = _fresh("o")
+    phi = ms.cycle(90)
+    lkk.linkage_kernel(lk)  # held, yet not taken
+    monkeypatch.setenv(lkk.BACKEND_ENV, "off")
+    assert lkk.kernel_backend() is None and lkk.linkage_kernel(lk) is None
+    for k in (None, True):
+        assert lk.motion(phi, kernel=k).points[out].x.base is None  # the model's own arrays
+    monkeypatch.setenv(lkk.BACKEND_ENV, "fast")
+    with pytest.raises(MechanismError, match="'c', 'numba', 'auto' or 'off'"):
+        lkk.kernel_backend()

@@ -882,10 +882,16 @@ def kernel_backend(probe: bool = True) -> str | None:
     """The code generator of this process's linkage kernels: ``"c"``, ``"numba"`` or None
     (neither: callers use the model). ``$MECHSYNTH_KERNELS`` chooses: ``c`` (None without a
     compiler), ``numba`` (None without numba), ``auto`` or unset (C when :func:`c_compiler`
-    finds one, else numba). ``probe=False`` tells numba is installed without importing it."""
+    finds one, else numba), ``off`` (None: every motion and sweep on the model, whose numbers
+    do not depend on what a process compiled). ``probe=False`` tells numba is installed
+    without importing it."""
     choice = os.environ.get(BACKEND_ENV, "auto").strip().lower() or "auto"
+    if choice == "off":
+        return None
     if choice not in ("auto", "c", "numba"):
-        raise MechanismError(f"${BACKEND_ENV} = {choice!r}: expected 'c', 'numba' or 'auto'")
+        raise MechanismError(
+            f"${BACKEND_ENV} = {choice!r}: expected 'c', 'numba', 'auto' or 'off'"
+        )
     if choice in ("auto", "c") and c_compiler() is not None:
         return "c"
     if choice == "c":
