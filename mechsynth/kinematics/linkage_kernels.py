@@ -46,6 +46,9 @@ quantities -- into one ``(outputs, designs, inputs)`` block, and two numbers per
 say whether the model must look at it: whether every output was finite, and the smallest
 assembly margin. Only the structure matters (which groups, branches and parameter names); the
 values are the kernel's inputs. Tests check the kernels against ``Linkage.motion`` to 1e-12.
+A kernel of the points alone (``outputs="points"``) writes the points' jets and the same two
+numbers per design (its margins reduced, not stored): :func:`linkage_batch` makes a motion of
+the points' tracks of it.
 
 Linkages with a cam follower get no kernel (None), nor do those whose trace holds an operation
 the generator does not know; the callers then use the model. (A follower's contact is found by a
@@ -179,7 +182,7 @@ class LinkageKernel:
         on numba's threads; for C, the loaded function (``kernel(n, m, lo, hi, ...)``) and None.
     backend : ``"c"`` or ``"numba"`` (:func:`kernel_backend`).
     kinds : ``"all"`` (every output of the motion) or ``"points"`` (the points' jets alone:
-        pylinkage's kinematics, a path's).
+        pylinkage's kinematics, a path's; the flags as the full kernel's).
     """
 
     names: tuple
@@ -889,9 +892,7 @@ def kernel_backend(probe: bool = True) -> str | None:
     if choice == "off":
         return None
     if choice not in ("auto", "c", "numba"):
-        raise MechanismError(
-            f"${BACKEND_ENV} = {choice!r}: expected 'c', 'numba', 'auto' or 'off'"
-        )
+        raise MechanismError(f"${BACKEND_ENV} = {choice!r}: expected 'c', 'numba', 'auto' or 'off'")
     if choice in ("auto", "c") and c_compiler() is not None:
         return "c"
     if choice == "c":
@@ -1033,8 +1034,9 @@ def linkage_kernel(linkage, wait: bool = True, outputs: str = "all") -> LinkageK
     None when no backend is available (:func:`kernel_backend`: neither a C compiler nor numba),
     the linkage has a cam follower or its solve uses an operation the generator does not know.
     ``outputs="points"``: a kernel of the points' positions, velocities and accelerations
-    alone (the rest of the solve left out: some 1.7 x faster per evaluation for a six-bar), for
-    callers that read its rows (:func:`linkage_batch` takes the kernels of every output).
+    alone (the rest of the solve left out but the groups' assembly margins, which reach its
+    flags unstored: some 1.7 x faster per evaluation for a six-bar), for callers that read its
+    rows or ask ``linkage_batch(..., outputs="points")`` for the points' tracks.
 
     ``wait=False`` never blocks on a build: it returns the kernel when this process has it and
     otherwise starts building it in a background thread and returns None at once, so that the
