@@ -413,7 +413,10 @@ def test_a_later_process_loads_the_kernel_from_the_disk_cache(tmp_path):
     env = {**os.environ, "MECHSYNTH_CACHE_DIR": str(tmp_path), lkk.BACKEND_ENV: "numba"}
     runs = [
         subprocess.run(
-            [sys.executable, "-c", _SECOND_PROCESS], env=env, capture_output=True, text=True,
+            [sys.executable, "-c", _SECOND_PROCESS],
+            env=env,
+            capture_output=True,
+            text=True,
             timeout=600,
         )  # fmt: skip
         for _ in range(2)
@@ -687,11 +690,20 @@ def test_a_kernel_of_the_points_alone_is_the_models(name, backend):
     assert np.all(flags[:, 0] == 0.0) and np.all(flags[:, 1] > 0.0)
     np.testing.assert_allclose(flags[:, 1], full_flags[:, 1], rtol=1e-13)
     ref = batch.motion(phi, speed=ms.rpm(600), epsilon=2.0)
+    model = lk.motion(phi).points
+    fixed = {k for k, t in model.items() if not np.any(t.vx) and not np.any(t.vy)}
+    ground = {off for _, key, off, _ in points.layout if key in fixed}
+    assert len(ground) == 2  # O and D
+    assert set(points.once) == {off + r for off in ground for r in range(6)}  # written once
     for _, key, off, _ in points.layout:
         for r, f in enumerate(FIELDS):
-            want = np.broadcast_to(getattr(ref.points[key], f), out[off + r].shape)
-            err = np.max(np.abs(out[off + r] - want)) / max(1.0, np.max(np.abs(want)))
+            got = out[off + r]
+            if off + r in points.once:  # the first column, along the inputs
+                got = np.broadcast_to(got[:, :1], got.shape)
+            want = np.broadcast_to(getattr(ref.points[key], f), got.shape)
+            err = np.max(np.abs(got - want)) / max(1.0, np.max(np.abs(want)))
             assert err < 1e-12, (key, f, err)
+    assert full.once == ()
     with pytest.raises(MechanismError, match="outputs='points'"):
         lkk.linkage_batch(batch, phi, kernel=points)
     with pytest.raises(MechanismError, match="outputs must be"):

@@ -107,10 +107,14 @@ def test_a_batch_of_the_points_alone_is_the_models(name, speed, backend):
     assert np.count_nonzero(~good & ~failed) <= 2
     block = ws.block(40, PHI.size, rows=kernel.outputs)
     assert list(motion.points) == list(lk.motion(PHI).points)
-    for track in motion.points.values():
+    ground = {k for k, t in lk.motion(PHI).points.items() if not np.any(t.vx) and not np.any(t.vy)}
+    assert ground == {"O", "D", "F"}
+    for key, track in motion.points.items():
         for f in FIELDS:
             v = getattr(track, f)
             assert v.shape == (40, PHI.size) and np.shares_memory(v, block), f
+            # a ground point's rows are written once per design and read along the inputs
+            assert v.flags.writeable == (key not in ground), (key, f)
     # what the kernel of the points does not compute is absent, not zeros
     assert motion.links == {} and motion.sliders == {} and motion.extra == {}
     assert motion.pressure_angles == {} and motion.raw_transmission_angles == {}
@@ -245,3 +249,23 @@ def test_the_motion_of_one_design_has_tracks_and_dicts_of_its_own(backend):
         assert "B" in m2.points and m2.links and m2.extra["assembly margins"]
         assert m2.pressure_angles
         _close(m2.pressure_angle, m2.pressure_angles["N"], "pressure")
+
+
+def test_the_rows_written_once_are_found_again_without_tracing(monkeypatch, backend):
+    """A kernel of the points alone writes its ground points' rows in the first column alone
+    and says so in its source: a kernel loaded from the structure's record (no trace) knows
+    the same rows, and its batch is the traced kernel's bit for bit."""
+    lk = watt_ii()
+    kernel = lkk.linkage_kernel(lk, outputs="points")
+    assert kernel.once and lkk._once_rows(kernel.source) == kernel.once
+    assert lkk._once_rows(lkk.linkage_kernel(lk).source) == ()
+    batch = lk(OA=np.array([[0.029], [0.031]]))
+    m1, _, _ = lkk.linkage_batch(batch, PHI, ms.rpm(300), outputs="points")
+    monkeypatch.setattr(lkk, "_KERNELS", {})
+    monkeypatch.setattr(lkk, "_trace", lambda *a: pytest.fail("traced although recorded"))
+    again = lkk.linkage_kernel(lk, outputs="points")
+    assert again is not kernel and again.once == kernel.once and again.kinds == "points"
+    m2, _, _ = lkk.linkage_batch(batch, PHI, ms.rpm(300), kernel=again, outputs="points")
+    for key, track in m1.points.items():
+        for f in FIELDS:
+            np.testing.assert_array_equal(getattr(m2.points[key], f), getattr(track, f))

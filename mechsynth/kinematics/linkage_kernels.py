@@ -183,6 +183,10 @@ class LinkageKernel:
     backend : ``"c"`` or ``"numba"`` (:func:`kernel_backend`).
     kinds : ``"all"`` (every output of the motion) or ``"points"`` (the points' jets alone:
         pylinkage's kinematics, a path's; the flags as the full kernel's).
+    once : the rows the kernel writes in the first column alone (``out[r, :, 0]``): those
+        that do not vary with the input, in a kernel of the points alone (its ground points';
+        a reader broadcasts them along the inputs, as :func:`linkage_batch` does); () for a
+        kernel of every output, which writes every row whole.
     """
 
     names: tuple
@@ -193,6 +197,7 @@ class LinkageKernel:
     parallel: object
     backend: str = "numba"
     kinds: str = "all"
+    once: tuple = ()
 
     def __call__(
         self, params: np.ndarray, phi: np.ndarray, out=None, flags=None, threads=None, speed=None
@@ -372,6 +377,22 @@ def _checks(layout, writes) -> set:
     return {r for r, _ in writes if r >= stored}
 
 
+#: the generated source's note of the rows written once per design (their numbers follow)
+_ONCE = "rows written once per design, in the first column:"
+
+
+def _once_rows(source: str) -> tuple:
+    """The rows a kernel's ``source`` writes in the first column alone (the kernel of the
+    points alone: its rows that do not vary with the input, the ground points' -- a third to
+    two fifths of a six-bar's rows, whose stores were that share of the kernel's time), from
+    the note the generators leave in it; () for a kernel of every output."""
+    at = source.find(_ONCE)
+    if at < 0:
+        return ()
+    line = source[at + len(_ONCE) : source.index("\n", at)]
+    return tuple(int(r) for r in line.replace("*/", " ").split())
+
+
 def _orders(layout) -> dict:
     """``{row: (order, row of the first derivative)}`` of the analog rows (order 1 or 2) of the
     points', links' and sliders' jets."""
@@ -508,11 +529,12 @@ def _program(f, dialect: _Dialect):
     return hoisted, body, writes, varies
 
 
-def _source(f, layout, stamp) -> str:
+def _source(f, layout, stamp, once: bool = False) -> str:
     """The numba source of the traced function ``f`` (one design, a loop over inputs; the
     straight-line code of :func:`_program`). The analogs are written as time derivatives at the
     input's speed ``w`` and acceleration ``e`` (``d/dt = w d``, ``d2/dt2 = w^2 d2 + e d``); the
-    finite test is on the analogs.
+    finite test is on the analogs. ``once``: the rows that do not vary with the input are
+    written in the first column alone (:func:`_once_rows`).
     """
     hoisted, body, writes, varies = _program(f, _PYTHON)
     hoisted = [f"{name} = {line}" for name, line in hoisted]
@@ -550,6 +572,7 @@ def _source(f, layout, stamp) -> str:
     # that overflows sends a finite design to the model, the safe side), in functions compiled
     # without fast-math flags (a sum of an output and its negation must stay NaN)
     finite, fixed, least = ["fixed"], [], ["math.inf"]
+    once_rows, once_lines = [], []
     orders = _orders(layout)
     checks = _checks(layout, writes)
     margins = {off for kind, _, off, _ in layout if kind == "margins"} | checks
@@ -561,8 +584,16 @@ def _source(f, layout, stamp) -> str:
             continue
         order, first = orders.get(r, (0, None))
         value = (name, f"w * {name}", f"w2 * {name} + e * {raw.get(first)}")[order]
-        lines.append(ind + f"out[{r}, i, j] = {value}")
+        if once and not varies[name]:
+            once_rows.append(r)
+            once_lines.append(ind + f"out[{r}, i, 0] = {value}")
+        else:
+            lines.append(ind + f"out[{r}, i, j] = {value}")
         (finite if varies[name] else fixed).append(name)
+    if once_rows:
+        at = lines.index("    w2 = w * w") + 1
+        lines[at:at] = ["    if phi.shape[0] > 0:", *once_lines]
+        lines.insert(lines.index("@@finite@@"), f"# {_ONCE} {' '.join(map(str, once_rows))}")
     fixed = fixed or ["0.0"]
     lines.insert(lines.index("    w2 = w * w"), f"    fixed = finite_fixed({', '.join(fixed)})")
     at = lines.index("@@finite@@")
@@ -673,17 +704,20 @@ static inline double ms_atan2(double y, double x)
 """
 
 
-def _c_source(f, layout) -> str:
+def _c_source(f, layout, once: bool = False) -> str:
     """The C source of the traced function ``f``: one function ``kernel`` over the designs
     ``lo <= i < hi`` of a batch and every input (the same straight-line code as the numba
     kernel's, :func:`_program`; the parameter-only part once per design, the inputs in blocks
-    of 64 whose finite tests and margins are reduced after each block)."""
+    of 64 whose finite tests and margins are reduced after each block). ``once``: the rows
+    that do not vary with the input are written in the first column alone
+    (:func:`_once_rows`)."""
     hoisted, body, writes, varies = _program(f, _C)
     orders = _orders(layout)
     checks = _checks(layout, writes)
     margins = {off for kind, _, off, _ in layout if kind == "margins"} | checks
     raw = dict(writes)
     fixed, finite, stores, least = [], ["fixed"], [], "INFINITY"
+    once_rows, once_stores = [], []
     for r, name in sorted(writes):
         if r in margins:
             least = f"({name} < {least} ? {name} : {least})"  # Python's min(least, name)
@@ -691,11 +725,18 @@ def _c_source(f, layout) -> str:
             continue
         order, first = orders.get(r, (0, None))
         value = (name, f"w * {name}", f"w2 * {name} + e * {raw.get(first)}")[order]
-        stores.append(f"o[{r} * nm + j] = {value};")
+        if once and not varies[name]:
+            once_rows.append(r)
+            once_stores.append(f"o[{r} * nm] = {value};")
+        else:
+            stores.append(f"o[{r} * nm + j] = {value};")
         (finite if varies[name] else fixed).append(name)
     ind, ind2 = " " * 8, " " * 16
+    if once_rows:
+        once_stores = ["if (m > 0) {", *("    " + s for s in once_stores), "}"]
     return "\n".join([
         _C_PRELUDE,
+        *([f"/* {_ONCE} {' '.join(map(str, once_rows))} */"] if once_rows else []),
         "void kernel(int64_t n, int64_t m, int64_t lo, int64_t hi, int64_t np_,",
         "            const double *restrict p, const double *restrict phi,",
         "            const double *restrict cphi, const double *restrict sphi, double w,",
@@ -709,6 +750,7 @@ def _c_source(f, layout) -> str:
         *(ind + f"const double {name} = {line};" for name, line in hoisted),
         ind + f"const double tf = {' + '.join(fixed or ['0.0'])};",
         ind + "const double fixed = tf - tf;",
+        *(ind + line for line in once_stores),
         ind + "double bad = 0.0, least = INFINITY, chk0[BLOCK], chk1[BLOCK];",
         ind + "for (int64_t j0 = 0; j0 < m; j0 += BLOCK) {",
         ind + "    const int64_t j1 = j0 + BLOCK < m ? j0 + BLOCK : m;",
@@ -1156,7 +1198,11 @@ def _built(linkage, key, backend="numba") -> LinkageKernel | None:
         known = _read_index(index)
         if known is None:
             f, names, layout = _trace(linkage, _outputs_of(key))
-            source = _c_source(f, layout) if backend == "c" else _source(f, layout, _stamp())
+            once = _outputs_of(key) != "all"
+            source = (
+                _c_source(f, layout, once) if backend == "c"
+                else _source(f, layout, _stamp(), once)
+            )  # fmt: skip
         else:
             names, layout, source = known
     except NotImplementedError:
@@ -1168,11 +1214,15 @@ def _built(linkage, key, backend="numba") -> LinkageKernel | None:
                 fn = _load_c(source)
             if known is None:
                 _write_index(index, names, layout, source, ".c")
-            kernel = LinkageKernel(names, layout, n_out, source, fn, None, "c", _outputs_of(key))
+            kernel = LinkageKernel(
+                names, layout, n_out, source, fn, None, "c", _outputs_of(key), _once_rows(source)
+            )
         else:
             kernel = _built_numba(linkage, names, layout, source, index, known is None)
             if _outputs_of(key) != "all":
-                kernel = dataclasses.replace(kernel, kinds=_outputs_of(key))
+                kernel = dataclasses.replace(
+                    kernel, kinds=_outputs_of(key), once=_once_rows(source)
+                )
     _KERNELS[backend, key] = kernel
     return kernel
 
@@ -1368,6 +1418,7 @@ class _Recipe:
             )
             self.links = self.sliders = self.pressures = self.transmissions = self.extra = ()
             self.pressure = self.transmission = None
+            self.once = kernel.once
             self.make = _maker(self)
             return
         rows = np.arange(1.0, kernel.outputs + 1.0).reshape(-1, 1, 1)  # row r holds r + 1
@@ -1399,6 +1450,7 @@ class _Recipe:
             (k, tuple((kk, row(vv)) for kk, vv in v.items()) if isinstance(v, dict) else row(v))
             for k, v in ref.extra.items()
         )
+        self.once = kernel.once
         self.make = _maker(self)
 
     def motion(self, out, phi, omega, eps) -> Motion:
@@ -1440,6 +1492,8 @@ def _maker(recipe: _Recipe):
     lines = [
         "def make(rows, phi, omega, eps):",
         "    " + ", ".join(f"r{i}" for i in range(recipe.rows)) + ", = rows",
+        # a row written in the first column alone: that column along the inputs (read-only)
+        *(f"    r{r} = broadcast_to(r{r}[..., :1], r{r}.shape)" for r in recipe.once),
     ]
     for name, kind, cls in (
         ("points", "_Points", "PointTrack"),
@@ -1467,6 +1521,7 @@ def _maker(recipe: _Recipe):
     )
     space = {
         "new": object.__new__, "np": np, "K": tuple(consts), "of_tracks": Motion._of_tracks,
+        "broadcast_to": np.broadcast_to,
         "PointTrack": PointTrack, "LinkTrack": LinkTrack, "SliderTrack": SliderTrack,
         "_Points": _Points, "_Links": _Links, "_Sliders": _Sliders,
     }  # fmt: skip
