@@ -1019,44 +1019,69 @@ def _on_this_host(executor) -> bool:
     return all(a.startswith("inproc://") or h in here for a, h in zip(addresses, hosts))
 
 
+#: speed of each of several workers that share this machine's cores, relative to one process
+#: alone: a chunk streams its block of kinematics through memory, and two at once on the 2
+#: cores took 1.4-1.75 x as long each (0.30-0.37 s for tasks of 15 chunks of 5,825
+#: slider-cranks that take 0.21 s alone; benchmarks/bench_sweep_dask.py, load average 2-3)
+SHARED_HOST_SPEED = 0.67
+
+
+def _busy_elsewhere() -> float:
+    """Threads running on this machine besides this one: the running count of
+    ``/proc/loadavg``, the median of five readings 2 ms apart, less this reader; 0 where it
+    cannot be read. (The load average itself lags by a minute and counts the sweep's own
+    workers of the charts before.)"""
+    counts = []
+    for _ in range(5):
+        try:
+            with open("/proc/loadavg") as f:
+                counts.append(int(f.read().split()[3].split("/")[0]) - 1)
+        except (OSError, ValueError, IndexError):
+            return 0.0
+        time.sleep(0.002)
+    return float(max(0.0, np.median(counts)))
+
+
 def _executor_plan(executor, spec, rows, n_chunks, threads=1) -> tuple[int, str]:
-    """Chunks per task of ``executor`` (:func:`_chunks_per_task`, rounded so that every worker
-    gets the same number of tasks), or 0 when this process is predicted faster, and a line
-    saying which and why. Predicted from the measured costs: here, the chunks' work
-    (:data:`EVALUATION_COST`) on ``threads`` threads (at most this machine's cores); on the
-    executor, the first round trip (the sweep's description to the workers), the workers'
-    first load of the kernels (:data:`WORKER_KERNEL_LOAD`, once per cluster), the tasks in
-    rounds over the workers (as many at once as this machine's cores when they run here), each
-    with its round trip (:func:`task_overhead`), and the results' bytes back
-    (:func:`result_cost`, measured only when the rest leaves the executor ahead)."""
-    per = _chunks_per_task(executor, spec, rows, n_chunks)
+    """Tasks for ``executor`` (of :func:`_chunks_per_task` chunks, their number rounded down to
+    a multiple of its workers, the chunks shared among them evenly), or 0 when this process is
+    predicted faster, and a line saying which and why. Predicted from the measured costs:
+    here, the chunks' work (:data:`EVALUATION_COST`) on ``threads`` threads; on the executor,
+    the first round trip (the sweep's description to the workers), the workers' first load of
+    the kernels (:data:`WORKER_KERNEL_LOAD`, once per cluster), the tasks in rounds over the
+    workers, each with its round trip (:func:`task_overhead`), and the results' bytes back
+    (:func:`result_cost`, measured only when the rest leaves the executor ahead). Workers on
+    this machine share its cores with this process and with whatever else runs there
+    (:func:`_busy_elsewhere`), and run slower side by side (:data:`SHARED_HOST_SPEED`)."""
     workers = executor_workers(executor)
-    tasks = -(-n_chunks // per)
+    tasks = -(-n_chunks // _chunks_per_task(executor, spec, rows, n_chunks))
     if tasks > workers:  # a whole number of tasks per worker: none idles for the last ones
         tasks -= tasks % workers
-        per = -(-n_chunks // tasks)
-        tasks = -(-n_chunks // per)
+    per = -(-n_chunks // tasks)  # at most: the tasks differ by a chunk at most
     if rows is None:
         cost = EVALUATION_COST["model"]
     else:
         cost = EVALUATION_COST["linkage kernel" if rows != 8 else "named kernel"]
     chunk_s = spec.chunk * spec.phi.size * cost
     designs = int(np.prod(spec.shape))
-    here = n_chunks * chunk_s / max(1, min(threads, cores()))
+    n, others = cores(), _busy_elsewhere()
+    here = n_chunks * chunk_s / min(threads, n * threads / (threads + others))
     trip = task_overhead(executor)
-    at_once = min(workers, cores()) if _on_this_host(executor) else workers
+    speed = 1.0  # of a worker, relative to this process alone on a core
+    if _on_this_host(executor):
+        speed = (SHARED_HOST_SPEED if workers > 1 else 1.0) * min(1.0, n / (workers + others))
     start = trip
     if _on_kernels(spec) and _executor_key(executor) not in _SEEN:
         start += WORKER_KERNEL_LOAD
-    there = start + -(-tasks // at_once) * (per * chunk_s + trip)
+    there = start + -(-tasks // workers) * (per * chunk_s / speed + trip)
     if there < here or ALWAYS_USE_EXECUTOR:  # (else no need to measure the results' cost)
         there += designs * (8 * len(spec.measures) + 1) * result_cost(executor)
     kind = "a Dask cluster" if _is_dask(executor) else type(executor).__name__
     if ALWAYS_USE_EXECUTOR or there < here:
         _SEEN.add(_executor_key(executor))
-        return per, (
-            f"{kind} of {workers} workers: {tasks} tasks of {per} chunks (predicted {there:.2g} s "
-            f"against {here:.2g} s in this process)"
+        return tasks, (
+            f"{kind} of {workers} workers: {tasks} tasks of {n_chunks // tasks}-{per} chunks "
+            f"(predicted {there:.2g} s against {here:.2g} s in this process)"
         )
     return 0, (
         f"this process: {kind} of {workers} workers would not pay (predicted {there:.2g} s "
@@ -1335,8 +1360,8 @@ def sweep(
         executor = pool = _process_pool(size) if size else None
         ran_on = f"a pool of {size} processes" if size else "this process"
     elif executor is not None:
-        per, ran_on = _executor_plan(executor, spec, rows, n_chunks, workers)
-        if not per:
+        tasks, ran_on = _executor_plan(executor, spec, rows, n_chunks, workers)
+        if not tasks:
             executor = None
     else:
         ran_on = "this process"
@@ -1348,9 +1373,10 @@ def sweep(
         # any concurrent.futures.Executor (a process pool, a Dask cluster's executor): each
         # task evaluates a run of chunks and sends back only their measures and feasibility
         payload = _dumps(spec)
-        per = per if pool is None else _chunks_per_task(executor, spec, rows, n_chunks)
-        firsts = range(0, n_chunks, per)
-        counts = [min(per, n_chunks - c) for c in firsts]
+        if pool is not None:
+            tasks = -(-n_chunks // _chunks_per_task(executor, spec, rows, n_chunks))
+        counts = [n_chunks // tasks + (i < n_chunks % tasks) for i in range(tasks)]
+        firsts = np.cumsum([0, *counts[:-1]]).tolist()
         results = executor.map(_remote_block, [payload] * len(counts), firsts, counts)
     elif workers == 1:
         results = (_sweep_block(spec, c) for c in range(n_chunks))
