@@ -1399,10 +1399,10 @@ class _Recipe:
 
     The row indices are read back from the model's own ``Linkage._motion`` once per structure
     (which track is the main slider, whose pressure angle is the motion's); a kernel of the
-    points alone has the points' rows of its layout and nothing else. ``make(rows, phi,
-    omega, eps)`` takes the block (its first axis the rows) or its rows, and builds every
-    track and dict of the motion in straight-line code (:func:`_maker`): for one design the
-    Python around the kernel is what a call costs beside the kernel's own 15-25 us."""
+    points alone has the points' rows of its layout and nothing else. ``make(block, phi,
+    omega, eps)`` takes the block (its first axis the rows) and builds every track and dict
+    of the motion in straight-line code (:func:`_maker`): for one design the Python around
+    the kernel is what a call costs beside the kernel's own 15-25 us."""
 
     def __init__(self, linkage, kernel):
         names = kernel.names
@@ -1476,11 +1476,13 @@ class _Recipe:
 
 
 def _maker(recipe: _Recipe):
-    """``make(rows, phi, omega, eps)``: the :class:`Motion` of a kernel's block (or of its
-    rows), written out for ``recipe`` as straight-line Python -- one unpacking of the rows,
-    each track made without its dataclass's ``__init__`` (as ``PointTrack.of``), each dict a
-    new one -- and compiled once per recipe (the loops over tracks and fields and the calls
-    per track they replace were most of a one-design call's Python)."""
+    """``make(block, phi, omega, eps)``: the :class:`Motion` of a kernel's block (its first
+    axis the rows), written out for ``recipe`` as straight-line Python -- one unpacking of
+    the rows (the rows written once per design, :attr:`LinkageKernel.once`, as read-only
+    views of their first column along the inputs, a run of them in one broadcast), each
+    track made without its dataclass's ``__init__`` (as ``PointTrack.of``), each dict a new
+    one -- and compiled once per recipe (the loops over tracks and fields and the calls per
+    track they replace were most of a one-design call's Python)."""
     consts: list = []
 
     def key(k):  # a str key as its literal, any other as a constant
@@ -1489,11 +1491,21 @@ def _maker(recipe: _Recipe):
         consts.append(k)
         return f"K[{len(consts) - 1}]"
 
+    runs, once = [], set(recipe.once)  # [start, stop) of rows alike: written once or not
+    for r in range(recipe.rows):
+        if runs and (r in once) == (runs[-1][0] in once):
+            runs[-1][1] = r + 1
+        else:
+            runs.append([r, r + 1])
+    parts = [
+        f"*broadcast_to(rows[{a}:{b}, ..., :1], rows[{a}:{b}].shape)" if a in once
+        else f"*rows[{a}:{b}]"
+        for a, b in runs
+    ]  # fmt: skip
+    unpacked = "rows" if len(parts) == 1 and not once else f"({', '.join(parts)},)"
     lines = [
         "def make(rows, phi, omega, eps):",
-        "    " + ", ".join(f"r{i}" for i in range(recipe.rows)) + ", = rows",
-        # a row written in the first column alone: that column along the inputs (read-only)
-        *(f"    r{r} = broadcast_to(r{r}[..., :1], r{r}.shape)" for r in recipe.once),
+        "    " + ", ".join(f"r{i}" for i in range(recipe.rows)) + f", = {unpacked}",
     ]
     for name, kind, cls in (
         ("points", "_Points", "PointTrack"),
