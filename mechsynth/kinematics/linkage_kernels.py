@@ -1263,14 +1263,16 @@ def linkage_batch(
     beyond round-off: the model raises there). The others (a toggle, or within round-off of
     closing) are the model's to judge.
 
-    ``outputs="points"`` runs the kernel of the points alone (:func:`linkage_kernel`; some
-    1.7 x faster per evaluation for a six-bar): the motion holds every point's track
+    ``outputs="points"`` runs the kernel of the points alone (:func:`linkage_kernel`; 2-3 x
+    faster than the full one for 10,000 six-bars): the motion holds every point's track
     (position, velocity, acceleration) and nothing else -- its ``links``, ``sliders``,
     ``extra``, ``pressure_angles`` and ``raw_transmission_angles`` are empty and its
     ``pressure_angle`` and ``raw_transmission_angle`` None (not computed, rather than zeros).
-    ``good`` then tells every point's outputs finite, and ``failed`` is judged on the groups'
-    assembly margins as for every output (the kernel reduces them without storing them).
-    A ``kernel`` given must be of the ``outputs`` asked for.
+    The ground points' tracks are read-only views of the block's first column along the
+    inputs (:attr:`LinkageKernel.once`). ``good`` then tells every point's outputs finite,
+    and ``failed`` is judged on the groups' assembly margins as for every output (the kernel
+    reduces them without storing them). A ``kernel`` given must be of the ``outputs`` asked
+    for.
     """
     if outputs != "all" and outputs != "points":
         raise MechanismError(f"outputs must be 'all' or 'points', got {outputs!r}")
