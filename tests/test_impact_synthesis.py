@@ -198,3 +198,43 @@ def test_housing_is_on_by_default_and_checked():
     a, b = impact_problem(m)[0], impact_problem(m, exact_stroke=True)[0]
     assert a.objective is b.objective
     assert [c.measure for c in a.constraints[2:]] == [c.measure for c in b.constraints[2:]]
+
+
+def test_a_design_builds_its_force_model_once_with_the_same_numbers(monkeypatch):
+    """The measures of one design share its force model (the certification evaluates each
+    measure over the dense grid and at every step of its 1-D searches; a model per call was a
+    fifth of a certification check). The numbers are those of a model built for the call."""
+    from mechsynth.dynamics.kinetostatics import kinetostatics
+    from mechsynth.dynamics.loads import Gravity
+    from mechsynth.kinematics.linkage import Linkage
+    from mechsynth.machines.impact import synthesis as S
+    from mechsynth.machines.impact.design import inertias_for
+
+    m = representative_machine("six")
+    builds = []
+    real = Linkage.force_model
+
+    def counted(self, *args, **kw):
+        builds.append(id(self))
+        return real(self, *args, **kw)
+
+    monkeypatch.setattr(Linkage, "force_model", counted)
+    S._MODELS.clear()
+    prob, masses = impact_problem(m)
+    builds.clear()
+    first = prob.evaluate(m.linkage)
+    # the energy and the work share the model without gravity, the joint forces the other
+    assert len(builds) == 2
+    assert prob.evaluate(m.linkage) == first and len(builds) == 2
+    mo = m.linkage.motion(PHI, speed=m.omega)
+    joints = peak_joint_force(masses, m.tilt)
+    fresh = kinetostatics(
+        real(m.linkage, inertias_for(m.linkage, masses), [Gravity(tilt=m.tilt)]), mo
+    ).reactions
+    want = np.max([fresh[j][0] ** 2 + fresh[j][1] ** 2 for j in "OABDKN"], axis=0)
+    assert np.array_equal(joints.samples(m.linkage, mo), np.sqrt(want))
+    # a few designs are kept, each holding its own model
+    for oa in np.linspace(0.008, 0.014, 6):
+        prob.evaluate(m.linkage.with_parameters(OA=float(oa)))
+    assert len(S._MODELS) <= S._MODELS_SIZE
+    assert all(k == id(design) for k, (design, _) in S._MODELS.items())

@@ -451,6 +451,8 @@ class _Structure:
         self.g = ca.vertcat(*g_rows) if g_rows else ca.SX(0, 1)
         self.lbg, self.ubg = np.array(lbg, dtype=float), np.array(ubg, dtype=float)
         self.g_kinds = kinds
+        # the epigraph each row belongs to (-1: none)
+        self.g_epigraph = np.array([k[1] if k[0] == "epigraph" else -1 for k in kinds], dtype=int)
         self.g_slots = np.concatenate(slots + [np.full(len(lbg) - sum(map(len, slots)), -1)])
         self.lbx = np.concatenate([np.zeros(n), [0.0 if s else -np.inf for s in sqrt_tau]])
         self.ubx = np.concatenate([np.ones(n), np.full(self.n_epi, np.inf)])
@@ -460,7 +462,9 @@ class _Structure:
         self.views: weakref.WeakSet = weakref.WeakSet()  # the live transcriptions using it
 
     def solver(self, method: str, options: dict | None = None):
-        """The cached CasADi solver ``method`` ("ipopt") or casadi Functions ("functions")."""
+        """The cached CasADi solver ``method`` ("ipopt"), casadi Functions ("functions": the
+        objective and constraints with their derivatives) or Function ("rows": the
+        constraints alone)."""
         import casadi as ca
 
         key = (method, tuple(sorted((options or {}).items())))
@@ -510,6 +514,8 @@ class _Structure:
                 self.solvers[key] = built
                 _trim_cache()
                 return built
+        elif method == "rows":  # g(x, p) alone: a warm start's epigraph lift
+            built = ca.Function("g", [self.x, self.p], [self.g])
         elif method == "functions":
             grad = ca.gradient(self.f, self.x)
             jac = ca.jacobian(self.g, self.x)
@@ -550,7 +556,7 @@ class Transcription(NumericForms):
         self.objective, self.constraints = s.objective, s.constraints
         for name in (
             "epigraphs", "n_epi", "n_user", "x", "p", "f", "g", "lbg", "ubg", "g_kinds",
-            "g_slots", "lbx", "ubx", "feasibility_names",
+            "g_epigraph", "g_slots", "lbx", "ubx", "feasibility_names",
         ):  # fmt: skip
             setattr(self, name, getattr(s, name))
         self._bounds = np.array([c.bound for c in problem.constraints], dtype=float)
@@ -589,6 +595,23 @@ class Transcription(NumericForms):
         """The structure's CasADi solver ``method`` ("ipopt") or casadi Functions
         ("functions"), built on first use."""
         return self.structure.solver(method, options)
+
+    def lift_epigraphs(self, x, P, n_grid: int):
+        """``x`` with each epigraph variable raised to the largest of its rows on the first
+        ``n_grid`` grid angles of ``P`` (the rows ``q / T - tau <= 0`` of the angles added
+        since ``x`` was solved then hold at ``x``; the design is unchanged)."""
+        x = np.array(x, dtype=float)
+        if not self.n_epi:
+            return x
+        g = np.asarray(self.solver("rows")(x, P), dtype=float).ravel()
+        _, ubg = self.g_bounds(n_grid)
+        g = g - ubg
+        for k in range(self.n_epi):
+            over = g[(self.g_epigraph == k) & np.isfinite(ubg)]
+            over = over[np.isfinite(over)]  # an angle where the design does not assemble: NaN
+            if over.size:
+                x[self.n + k] += max(0.0, float(np.max(over)))
+        return x
 
     def row_keys(self) -> list[tuple]:
         """A key per row of ``g`` that names the same constraint in a program of another slot

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import functools
 import time
+from collections import OrderedDict
 
 import numpy as np
 
@@ -78,8 +79,38 @@ VARIABLES = {
 SLOTS = 32
 
 
+#: the force models of the last designs evaluated, by design and by (masses, tilt): the
+#: measures of one design (the energy, the work, the joint forces; the certification evaluates
+#: each over the dense grid and at every step of its 1-D searches) share one model instead of
+#: building it for every call (a model is a function of these numbers alone). Each entry holds
+#: its design, so the design's identity is not reused while it is cached
+_MODELS: OrderedDict = OrderedDict()
+_MODELS_SIZE = 4
+
+
+def _model(mech, masses, tilt=None):
+    """The force model of ``mech`` with the bodies' ``masses`` and, unless ``tilt`` is None,
+    gravity at that tilt (built once per design and numbers; a symbolic design's model is
+    built once per program anyway and is not kept)."""
+    loads = () if tilt is None else [Gravity(tilt=tilt)]
+    if ops.is_symbolic(*mech.parameters.values()):
+        return mech.force_model(inertias_for(mech, masses), loads)
+    entry = _MODELS.get(id(mech))
+    if entry is None or entry[0] is not mech:
+        entry = _MODELS[id(mech)] = (mech, {})
+        while len(_MODELS) > _MODELS_SIZE:
+            _MODELS.popitem(last=False)
+    else:
+        _MODELS.move_to_end(id(mech))
+    key = (tuple(sorted(masses.items())), tilt)
+    model = entry[1].get(key)
+    if model is None:
+        model = entry[1][key] = mech.force_model(inertias_for(mech, masses), loads)
+    return model
+
+
 def _bodies(mech, masses, drive_inertia):
-    model = mech.force_model(inertias_for(mech, masses))
+    model = _model(mech, masses)
     return list(model.bodies.values()), model
 
 
@@ -119,7 +150,7 @@ def blow_work(tool_mass, restitution, drive_inertia, masses=None) -> CycleMeasur
 
 
 def _forces(mech, motion, masses, tilt):
-    model = mech.force_model(inertias_for(mech, masses), [Gravity(tilt=tilt)])
+    model = _model(mech, masses, float(tilt))
     return model, kinetostatics(model, motion)
 
 
