@@ -13,8 +13,9 @@ the synthesis' blow energy, the front's points and the load average when the run
 
 ``--baseline DIR``: a checkout of an earlier commit (e.g. ``git worktree add ../old 59fc68f``),
 run with ``PYTHONPATH=DIR``; its runs alternate with this code's, so both see the same load.
-The baseline before the housing constraints (commit 59fc68f) solves the problem without them:
-compare it with ``--housing off``. ``--runs N`` repeats each.
+The baseline runs with the same ``--housing``; one before the housing constraints (commit
+59fc68f) has no such option and solves the problem without them: compare it with ``--housing
+off``. ``--runs N`` repeats each.
 
 Run: python benchmarks/bench_impact.py [--baseline DIR] [--points 3] [--housing on|off]
      [--runs 1]
@@ -30,7 +31,7 @@ import sys
 from pathlib import Path
 
 CHILD = r"""
-import json, os, resource, sys, time
+import inspect, json, os, resource, sys, time
 
 points, housing = int(sys.argv[1]), sys.argv[2] == "on"
 from mechsynth.machines.impact.design import representative_machine
@@ -39,7 +40,9 @@ from mechsynth.machines.impact import synthesis as S
 
 m = representative_machine("six")
 m = m.replace(gear_ratio=motor_for(m).gear_ratio)
-options = {} if housing else {"housing": False}
+# a baseline before the housing constraints has no such option (and no housing)
+knows = "housing" in inspect.signature(S.impact_problem).parameters
+options = {} if housing or not knows else {"housing": False}
 
 
 def peak_mib():
@@ -124,7 +127,7 @@ def main(argv=None) -> None:
     rows: list[tuple[str, dict]] = []
     for _ in range(a.runs):
         if a.baseline is not None:
-            rows.append(("baseline", run(a.points, "on", a.baseline)))
+            rows.append(("baseline", run(a.points, a.housing, a.baseline)))
         rows.append(("this code", run(a.points, a.housing)))
     print(
         f"\nimpact synthesis (3 starts) + {a.points}-point front, housing {a.housing}"
