@@ -1028,7 +1028,7 @@ SHARED_HOST_SPEED = 0.67
 
 def _busy_elsewhere() -> float:
     """Threads running on this machine besides this one: the running count of
-    ``/proc/loadavg``, the median of five readings 2 ms apart, less this reader; 0 where it
+    ``/proc/loadavg``, the median of five readings 1 ms apart, less this reader; 0 where it
     cannot be read. (The load average itself lags by a minute and counts the sweep's own
     workers of the charts before.)"""
     counts = []
@@ -1038,7 +1038,7 @@ def _busy_elsewhere() -> float:
                 counts.append(int(f.read().split()[3].split("/")[0]) - 1)
         except (OSError, ValueError, IndexError):
             return 0.0
-        time.sleep(0.002)
+        time.sleep(0.001)
     return float(max(0.0, np.median(counts)))
 
 
@@ -1064,9 +1064,15 @@ def _executor_plan(executor, spec, rows, n_chunks, threads=1) -> tuple[int, str]
         cost = EVALUATION_COST["linkage kernel" if rows != 8 else "named kernel"]
     chunk_s = spec.chunk * spec.phi.size * cost
     designs = int(np.prod(spec.shape))
+    trip = task_overhead(executor)
+    kind = "a Dask cluster" if _is_dask(executor) else type(executor).__name__
+    if n_chunks * chunk_s <= trip and not ALWAYS_USE_EXECUTOR:  # no need to ask further
+        return 0, (
+            f"this process: {kind} of {workers} workers would not pay (its round trip "
+            f"{trip:.2g} s, the work {n_chunks * chunk_s:.2g} s)"
+        )
     n, others = cores(), _busy_elsewhere()
     here = n_chunks * chunk_s / min(threads, n * threads / (threads + others))
-    trip = task_overhead(executor)
     speed = 1.0  # of a worker, relative to this process alone on a core
     if _on_this_host(executor):
         speed = (SHARED_HOST_SPEED if workers > 1 else 1.0) * min(1.0, n / (workers + others))
@@ -1076,7 +1082,6 @@ def _executor_plan(executor, spec, rows, n_chunks, threads=1) -> tuple[int, str]
     there = start + -(-tasks // workers) * (per * chunk_s / speed + trip)
     if there < here or ALWAYS_USE_EXECUTOR:  # (else no need to measure the results' cost)
         there += designs * (8 * len(spec.measures) + 1) * result_cost(executor)
-    kind = "a Dask cluster" if _is_dask(executor) else type(executor).__name__
     if ALWAYS_USE_EXECUTOR or there < here:
         _SEEN.add(_executor_key(executor))
         return tasks, (
