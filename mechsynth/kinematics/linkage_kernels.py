@@ -1277,8 +1277,9 @@ def linkage_batch(
     if outputs != "all" and outputs != "points":
         raise MechanismError(f"outputs must be 'all' or 'points', got {outputs!r}")
     values = linkage._values
-    scalars = {*map(type, values.values())} == {float}
-    if not scalars and ops.is_symbolic(*values.values()):
+    types = {*map(type, values.values())}
+    scalars = types == _FLOAT
+    if not types <= _PLAIN and ops.is_symbolic(*values.values()):
         return None
     phi = np.asarray(phi, dtype=float)
     if phi.ndim != 1:
@@ -1300,7 +1301,7 @@ def linkage_batch(
     else:  # the numbers in one broadcast row, then the arrays (the varied parameters)
         got = recipe.values(values)
         arrays = [
-            (j, np.asarray(v, dtype=float).reshape(-1))
+            (j, (v if type(v) is np.ndarray and v.dtype is _F64 else np.asarray(v, float)).ravel())
             for j, v in enumerate(got)
             if type(v) is not float
         ]
@@ -1330,6 +1331,10 @@ def linkage_batch(
         good = finite == 0.0
         failed = (least < -1e-6) > good  # and not good
     return recipe.motion(out, phi, omega, eps), good, failed
+
+
+#: a batch's parameter types: one design of numbers, and what needs no symbolic test
+_FLOAT, _PLAIN = {float}, {float, np.ndarray}
 
 
 def held_kernel(linkage) -> LinkageKernel | None:
