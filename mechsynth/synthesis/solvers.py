@@ -317,6 +317,10 @@ class _Unassembled(Exception):
     whose error names no angle to add: it is treated as infeasible."""
 
 
+#: refinement angles (rad) closer than this share a slot when the slots run out
+_SAME_ANGLE = 1e-7
+
+
 class _Certifier:
     """Refines the grid around one candidate until its peaks are certified.
 
@@ -330,7 +334,9 @@ class _Certifier:
         self.problem, self.method, self.options = problem, method, options
         self.rtol, self.max_rounds, self.n_dense = rtol, max_rounds, n_dense
         self.extra: list[float] = []
-        self.owners: list[int | None] = []  # the peak (index in atoms) each angle was added for
+        # the peaks (indices in atoms; None: where the design did not assemble) of each angle
+        self.owners: list[set] = []
+        self.merged = None  # new slot of each old one after a merge (fixed slots), for run()
         # numeric forms suffice to check peaks without re-solving (max_rounds 0)
         self.tr = problem._transcription() if tr is None else tr
         self.atoms = _peak_atoms(self.tr)
@@ -396,16 +402,19 @@ class _Certifier:
                 near = [
                     i
                     for i, (b, o) in enumerate(zip(self.extra, self.owners))
-                    if o == k and i not in moved and dist(a, b) < 0.5 * step
+                    if k in o and i not in moved and dist(a, b) < 0.5 * step
                 ]
                 if near:
                     i = min(near, key=lambda i: dist(a, self.extra[i]))
                     self.extra[i] = a
+                    self.owners[i] = {k}
                     moved.add(i)
                     continue
             self.extra.append(a)
-            self.owners.append(k)
+            self.owners.append({k})
             moved.add(len(self.extra) - 1)
+        if len(self.extra) > self.tr.n_extra and self.problem.slots is not None:
+            self._merge(dist)
         if len(self.extra) > self.tr.n_extra:
             n = int(2 ** np.ceil(np.log2(len(self.extra))))
             if self.problem.slots is not None:
@@ -416,6 +425,32 @@ class _Certifier:
             self.atoms = _peak_atoms(self.tr)
             return True
         return False
+
+    def _merge(self, dist):
+        """Angles closer than :data:`_SAME_ANGLE` take one slot (the first's): peaks at one
+        angle (the dead centres: a stroke's end, the joints' nearest approach to a wall) find
+        it each to the 1-D search's tolerance (some 1e-7 rad), not to 1e-12, and kept a slot
+        each (five for one angle in the impact synthesis). Only when the angles outnumber the
+        slots, before the program grows: their grid values there differ from their peaks by
+        some 1e-14 relative, and a peak the merged angle does not certify finds its own
+        again. Sets :attr:`merged` (the new slot of each old one) for the multipliers."""
+        keep: list[int] = []
+        where = np.empty(len(self.extra), dtype=int)
+        for i, a in enumerate(self.extra):
+            j = next((j for j, b in enumerate(keep) if dist(a, self.extra[b]) <= _SAME_ANGLE), None)
+            if j is None:
+                where[i] = len(keep)
+                keep.append(i)
+            else:
+                where[i] = j
+        if len(keep) == len(self.extra):
+            return
+        owners = [set() for _ in keep]
+        for i, o in enumerate(self.owners):
+            owners[where[i]] |= o
+        self.extra = [self.extra[i] for i in keep]
+        self.owners = owners
+        self.merged = where
 
     def run(self, run: _Run):
         """Certify ``run``; returns (run, checks, certified, true_q)."""
@@ -432,6 +467,7 @@ class _Certifier:
             if self.rounds >= self.max_rounds:
                 return run, tuple(checks), False, true_q
             before = self.tr
+            self.merged = None
             rebuilt = self._add(new)
             self.rounds += 1
             P = self.tr.parameter_vector(self.grid, *run.scales)
@@ -443,6 +479,8 @@ class _Certifier:
                 # synthesis: a worse local optimum, 29.73 against 30.01 J). Later rounds move
                 # the angles little: warm
                 warm = None
+            if self.merged is not None and warm is not None:  # merged slots: their rows'
+                warm = (warm[0], before.merge_slots(warm[1], self.merged))
             if rebuilt:  # the multipliers have the old program's rows
                 fixed = self.problem.slots is not None and warm is not None
                 warm = self.tr.carry(warm, before) if fixed else None

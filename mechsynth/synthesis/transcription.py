@@ -640,6 +640,20 @@ class Transcription(NumericForms):
                 out[i] = lam_g[j]
         return np.asarray(lam_x, dtype=float), out
 
+    def merge_slots(self, lam_g, where):
+        """Multipliers ``lam_g`` of this program after its refinement angles moved to other
+        slots (``where[i]``: the new slot of the angle in slot ``i``; angles merged into one
+        slot add their rows' multipliers, as their constraints' gradients are the same)."""
+        lam_g = np.asarray(lam_g, dtype=float)
+        where = np.asarray(where, dtype=int)
+        out = lam_g.copy()
+        e = self.g_slots - self.n_base  # refinement slot of each per-angle row
+        rows = np.flatnonzero((self.g_slots >= 0) & (e >= 0) & (e < where.size))
+        out[rows] = 0.0
+        # a branch's rows run over the grid slots in order: slot e' is e' - e rows on
+        np.add.at(out, rows + where[e[rows]] - e[rows], lam_g[rows])
+        return out
+
     def replace_extra(self, n_extra: int) -> Transcription:
         """A new transcription with room for ``n_extra`` refinement angles."""
         return Transcription(self.problem, n_extra)
