@@ -134,3 +134,31 @@ def test_a_chart_that_needs_no_angles_skips_them_and_gives_the_same_numbers(monk
     for k in peaks:  # the same numbers, bit for bit
         np.testing.assert_array_equal(lean.values[k].filled(np.nan), full.values[k].filled(np.nan))
     _same(full, sweep(ms.SliderCrank, grid, {**peaks, **angles}, kernels=False, **kw))
+
+
+@needs_numba
+def test_batch_motion_scales_only_the_rates_that_are_read():
+    """The kernels give the analogs; a rate is multiplied by the crank speed (or its square)
+    where it lies in the block the first time it is read, to the bit what the batch function
+    gives at that speed, and the rates never read are left as analogs."""
+    crank, rod, off = np.array([0.05, 0.07, 0.06]), 0.24, np.array([0.0, -0.03, 0.02])
+    sc, w = ms.SliderCrank(crank[:, None], rod, off[:, None]), 12.5
+    ref = compiled.slider_crank_batch(crank, rod, off, PHI, speed=w)
+    analog = compiled.slider_crank_batch(crank, rod, off, PHI)
+    ws = BatchWorkspace()
+    fast = batch_motion(sc, PHI, speed=w, workspace=ws)
+    block = ws.block(3, PHI.size)
+    np.testing.assert_array_equal(block[:6], np.stack([getattr(analog, f) for f in (
+        "position", "velocity", "acceleration", "rod_angle", "rod_omega", "rod_epsilon")]))
+    np.testing.assert_array_equal(fast.slider.acceleration, ref.acceleration)
+    np.testing.assert_array_equal(fast.slider.acceleration, ref.acceleration)  # once only
+    np.testing.assert_array_equal(block[1], analog.velocity)  # not read: an analog still
+    np.testing.assert_array_equal(fast.links["rod"].omega, ref.rod_omega)
+    np.testing.assert_array_equal(fast.links["rod"].epsilon, ref.rod_epsilon)
+    np.testing.assert_array_equal(fast.slider.velocity, ref.velocity)
+    assert fast.omega == w and fast.slider.velocity is fast.sliders["B"].velocity
+    fb = ms.FourBar(np.array([1.0, 1.2])[:, None], 4.3, 3.0, 5.2)
+    m = fb.motion(PHI, speed=w)
+    fast = batch_motion(fb, PHI, speed=w)
+    scale = np.abs(m.links["rocker"].epsilon).max()
+    assert np.abs(fast.links["rocker"].epsilon - m.links["rocker"].epsilon).max() < 1e-12 * scale

@@ -63,7 +63,7 @@ from ..errors import MechanismError
 from . import ops
 from .four_bar import FourBar, four_bar_chain
 from .slider_crank import SliderCrank, slider_crank_chain
-from .tracks import Motion
+from .tracks import LinkTrack, Motion, SliderTrack
 
 __all__ = [
     "FourBarBatch",
@@ -700,6 +700,71 @@ class _OnRead:
 _PENDING = object()  # a _BatchMotion's angle not computed yet
 
 
+def _fields_of(res, start, stop):
+    """The arrays of a batch result's fields ``start`` ... ``stop - 1`` in the kernels' order."""
+    return [res.__dict__[f] for f in _FIELDS[type(res)][start:stop]]
+
+
+class _AtSpeed:
+    """A rate of a :func:`batch_motion` track (a velocity or an acceleration), computed by the
+    kernel as the crank-angle analog and multiplied in place by the crank speed's ``power``
+    the first time it is read: a chart pays only for the rates its measures read."""
+
+    def __init__(self, power):
+        self.power = power
+
+    def __set_name__(self, owner, name):
+        self.key = "_" + name
+
+    def __get__(self, track, owner=None):
+        if track is None:
+            return self
+        d = track.__dict__
+        value = d[self.key]
+        if self.key in d["_pending"]:
+            d["_pending"].discard(self.key)
+            w = d["_speed"]
+            value *= w if self.power == 1 else w * w  # a view into the block: scaled there
+        return value
+
+    def __set__(self, track, value):
+        d = track.__dict__
+        d[self.key] = value
+        d.setdefault("_pending", set()).discard(self.key)  # a value given: taken as it is
+
+
+class _LinkAtSpeed(LinkTrack):
+    """A :class:`LinkTrack` of :func:`batch_motion` whose rates are scaled on first read
+    (:class:`_AtSpeed`); pickled and copied as a plain :class:`LinkTrack`."""
+
+    omega = _AtSpeed(1)
+    epsilon = _AtSpeed(2)
+
+    def __reduce__(self):
+        return LinkTrack, (self.angle, self.omega, self.epsilon)
+
+
+class _SliderAtSpeed(SliderTrack):
+    """A :class:`SliderTrack` of :func:`batch_motion` whose rates are scaled on first read."""
+
+    velocity = _AtSpeed(1)
+    acceleration = _AtSpeed(2)
+
+    def __reduce__(self):
+        return SliderTrack, (self.position, self.velocity, self.acceleration)
+
+
+def _at_speed(cls, first, rate, rate2, speed):
+    """A track of ``cls`` whose analogs ``rate``, ``rate2`` are scaled by ``speed`` on first
+    read (none when ``speed`` is 1)."""
+    track = cls(first, rate, rate2)
+    if speed != 1.0:
+        d = track.__dict__
+        d["_speed"] = speed
+        d["_pending"] = {"_" + f.name for f in dataclasses.fields(cls)[1:]}
+    return track
+
+
 class _BatchMotion(Motion):
     """The motion :func:`batch_motion` returns: a :class:`Motion` whose pressure and raw
     transmission angles are computed from the kernel's outputs the first time one of them is
@@ -727,7 +792,7 @@ def batch_motion(mechanism, phi, speed=None, workspace: BatchWorkspace | None = 
     angles are computed when first read (from the block, so read them before its next use).
     Values agree with the model to 1e-12 (``tests/test_charts.py``).
     """
-    from .tracks import LinkTrack, SliderTrack
+    from .tracks import LinkTrack
 
     kind = type(mechanism)
     if kind not in (SliderCrank, FourBar) or not numba_available():
@@ -746,21 +811,22 @@ def batch_motion(mechanism, phi, speed=None, workspace: BatchWorkspace | None = 
     ws = workspace if workspace is not None else BatchWorkspace()
     block = ws.block(n, phi.size)
     out, extra = block[:6], block[6:]
+    # the kernels give the analogs; each rate is scaled by the crank speed when first read
+    omega = _speed(speed)
     if kind is SliderCrank:
-        res = slider_crank_batch(*params.values(), phi, speed=speed, out=out)
-        links = {"rod": LinkTrack(res.rod_angle, res.rod_omega, res.rod_epsilon)}
-        sliders = {"B": SliderTrack(res.position, res.velocity, res.acceleration)}
+        res = slider_crank_batch(*params.values(), phi, out=out)
+        links = {"rod": _at_speed(_LinkAtSpeed, *_fields_of(res, 3, 6), omega)}
+        sliders = {"B": _at_speed(_SliderAtSpeed, *_fields_of(res, 0, 3), omega)}
     else:
         res = four_bar_batch(
             *params.values(), phi, branch=mechanism.branch, full_turn=mechanism.full_turn,
-            speed=speed, out=out,
+            out=out,
         )  # fmt: skip
         links = {
-            "coupler": LinkTrack(res.coupler_angle, res.coupler_omega, res.coupler_epsilon),
-            "rocker": LinkTrack(res.rocker_angle, res.rocker_omega, res.rocker_epsilon),
+            "coupler": _at_speed(_LinkAtSpeed, *_fields_of(res, 3, 6), omega),
+            "rocker": _at_speed(_LinkAtSpeed, *_fields_of(res, 0, 3), omega),
         }
         sliders = {}
-    omega = 1.0 if speed is None else float(speed)
     shape = (n, phi.size)
     links["crank"] = LinkTrack(
         np.broadcast_to(phi, shape), np.broadcast_to(omega, shape), np.broadcast_to(0.0, shape)
