@@ -33,8 +33,9 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def one_size(n: int, repeat: int) -> dict:
-    """Time ``repeat`` runs of each at ``n x n`` designs in this process."""
+def one_size(n: int, repeat: int, lean: bool = True) -> dict:
+    """Time ``repeat`` runs of each at ``n x n`` designs in this process (``lean``: as
+    :func:`bench_sweep.hand_written`)."""
     sys.path.insert(0, HERE)
     import bench_sweep as b
 
@@ -44,14 +45,14 @@ def one_size(n: int, repeat: int) -> dict:
     b.hand_written(lam[:5], eps[:5])  # load the kernels
     charts.slider_crank_chart(rod_crank=lam[:5], offset_crank=eps[:5], progress=False)
     base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    b.hand_written(lam, eps)  # each one's memory touched once
+    b.hand_written(lam, eps, lean=lean)  # each one's memory touched once
     charts.slider_crank_chart(rod_crank=lam, offset_crank=eps, progress=False)
     loops = max(1, 10**6 // (n * n))
     hand, swept = [], []
     for _ in range(repeat):
         t = time.process_time()
         for _ in range(loops):
-            ref = b.hand_written(lam, eps)
+            ref = b.hand_written(lam, eps, lean=lean)
         hand.append((time.process_time() - t) / loops)
         t = time.process_time()
         for _ in range(loops):
@@ -77,23 +78,28 @@ def main(argv=None):
     ap.add_argument("--n", type=int, nargs="+", default=[100, 300, 1000, 2000])
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--one", type=int, help=argparse.SUPPRESS)
+    ap.add_argument("--all-rates", action="store_true",
+                    help="the hand-written loop computes all four rates at the crank speed (the "
+                    "reference before the sweep scaled only the rates it reads)")  # fmt: skip
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args(argv)
     if args.one:
-        print(json.dumps(one_size(args.one, args.repeat)))
+        print(json.dumps(one_size(args.one, args.repeat, lean=not args.all_rates)))
         return
     rows = []
     for n in args.n:
         out = subprocess.run(
-            [sys.executable, __file__, "--one", str(n), "--repeat", str(args.repeat)],
+            [sys.executable, __file__, "--one", str(n), "--repeat", str(args.repeat)]
+            + ["--all-rates"] * args.all_rates,
             capture_output=True, text=True, check=True,
         )  # fmt: skip
         rows.append(json.loads(out.stdout.strip().splitlines()[-1]))
     if args.json:
         print(json.dumps(rows, indent=2))
         return
-    print(f"slider-crank chart x 360 angles, CPU seconds, {args.repeat} runs each "
-          f"(load average {os.getloadavg()[0]:.1f}: the machine is shared)")  # fmt: skip
+    what = "all four rates at speed" if args.all_rates else "only what the measures need"
+    print(f"slider-crank chart x 360 angles, CPU seconds, {args.repeat} runs each, by hand "
+          f"{what} (load average {os.getloadavg()[0]:.1f}: the machine is shared)")  # fmt: skip
     for r in rows:
         ratios = [s / h for s, h in zip(r["sweep_s"], r["hand_s"])]
         grow = r["peak_mib"] - r["base_mib"]
