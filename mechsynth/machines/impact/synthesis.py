@@ -73,9 +73,11 @@ VARIABLES = {
 #: program is costly to build (the symbolic kinetostatics, 1-3 s and 110-160 MB each), and the
 #: ladder of 16, 32, 64, 128 slots built up to four programs per candidate, each solve after a
 #: new one started cold. With the angles moved along their peaks the certified candidates hold
-#: 17-33 refinement angles (one of the synthesis' three outgrows 32 and gets 64). The slots
-#: change the program's size and so the solves' paths: with 48, the synthesis' third start
-#: certified the 29.73 J optimum of the first instead of 30.01 J
+#: 17-34 refinement angles, some a few 1e-8 rad apart (peaks at one dead centre); those share
+#: a slot when the angles outnumber the slots, so the 32 suffice for every candidate of the
+#: synthesis and its front (one outgrew them and built a program of 64). The slots change the
+#: program's size and so the solves' paths: with 48, the synthesis' third start certified the
+#: 29.73 J optimum of the first instead of 30.01 J
 SLOTS = 32
 
 
