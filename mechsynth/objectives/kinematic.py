@@ -76,7 +76,8 @@ def _label(point) -> str:
 
 
 def _signed_or_vector(kind: str, point, direction):
-    """Per-angle value, branches and outer transform for |velocity| or |acceleration|."""
+    """Per-angle value, branches and the signed component (None for a vector's magnitude) of
+    |velocity| or |acceleration|."""
 
     def component(mechanism, motion):
         what, tr = _resolve(mechanism, motion, point)
@@ -107,7 +108,23 @@ def _signed_or_vector(kind: str, point, direction):
         x, y = xy(mechanism, motion)
         return (x * x + y * y,)
 
-    return per_angle, branches
+    return per_angle, branches, component
+
+
+class _SignedPeak(CycleMeasure):
+    """Peak |component| of a signed per-angle value: on numbers, ``max(max c, -min c)`` -- the
+    same bits as the maximum of ``|c|`` without a per-angle temporary of ``|c|`` (a pass over
+    every design-angle of a chart's block)."""
+
+    def __init__(self, name, per_angle, unit, branches, component):
+        super().__init__(name, per_angle, "max", unit, branches=branches)
+        self._component = component
+
+    def from_motion(self, mechanism, motion):
+        c = self._component(mechanism, motion)
+        if type(c) is not np.ndarray or c.ndim == 0 or c.dtype != np.float64:
+            return super().from_motion(mechanism, motion)
+        return np.maximum(c.max(axis=-1), -c.min(axis=-1))
 
 
 class _PeakMagnitude(CycleMeasure):
@@ -116,8 +133,9 @@ class _PeakMagnitude(CycleMeasure):
     decided per call of :meth:`branches_outer`."""
 
     def __init__(self, name, kind, point, direction, unit):
-        per_angle, branches = _signed_or_vector(kind, point, direction)
+        per_angle, branches, component = _signed_or_vector(kind, point, direction)
         super().__init__(name, per_angle, "max", unit, branches=branches)
+        self._component = component
         self.point, self.direction = point, direction
 
     def bind(self, mechanism_class):
@@ -125,6 +143,10 @@ class _PeakMagnitude(CycleMeasure):
         # direction gives a signed scalar. Decided from the name (default_output of the class or
         # of the linkage).
         vector = self.direction is None and not self._is_slider(mechanism_class)
+        if not vector:
+            return _SignedPeak(
+                self.name, self.per_angle, self.unit, self._branches, self._component
+            )
         return CycleMeasure(
             self.name,
             self.per_angle,
