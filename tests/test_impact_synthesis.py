@@ -226,7 +226,9 @@ def test_a_design_builds_its_force_model_once_with_the_same_numbers(monkeypatch)
     first = prob.evaluate(m.linkage)
     # the energy and the work share the model without gravity, the joint forces the other
     assert len(builds) == 2
-    assert prob.evaluate(m.linkage) == first and len(builds) == 2
+    again = prob.evaluate(m.linkage)  # the same model (to round-off: a structure's repeated
+    assert len(builds) == 2  # motions may have moved onto its compiled kernel meanwhile)
+    assert all(again[k] == pytest.approx(v, rel=1e-12, abs=1e-12) for k, v in first.items())
     mo = m.linkage.motion(PHI, speed=m.omega)
     joints = peak_joint_force(masses, m.tilt)
     fresh = kinetostatics(
