@@ -7,6 +7,7 @@ model and against each other."""
 
 import numpy as np
 import pytest
+import test_linkage_kernels
 from test_linkage import FIELDS, six_link
 
 import mechsynth as ms
@@ -14,16 +15,8 @@ from mechsynth.errors import MechanismError
 from mechsynth.kinematics import linkage_kernels as lkk
 from mechsynth.kinematics.compiled import BatchWorkspace
 
+backend = test_linkage_kernels.backend  # the code generator's fixture, C and numba
 PHI = ms.cycle(72)
-
-
-@pytest.fixture(params=["c", "numba"])
-def backend(request, monkeypatch):
-    """The kernels' code generator, chosen through the environment (skipped where absent)."""
-    monkeypatch.setenv(lkk.BACKEND_ENV, request.param)
-    if lkk.kernel_backend() != request.param:
-        pytest.skip(f"no {request.param} kernels on this machine")
-    return request.param
 
 
 @pytest.fixture(params=["c", pytest.param("numba", marks=pytest.mark.slow)])

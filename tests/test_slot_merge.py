@@ -4,26 +4,10 @@ grows, and their rows' multipliers add up in it (``Transcription.merge_slots``).
 
 import numpy as np
 import pytest
+from test_refinement_slots import _minimized  # the same coarse-grid problem
 
-import mechsynth as ms
-from mechsynth import objectives as ob
 from mechsynth.synthesis import solvers as SV
 from mechsynth.synthesis import transcription as T
-
-W = ms.rpm(300)
-
-
-def _minimized(slots=None):
-    """A minimized peak (an epigraph) with a pressure-angle bound (a second epigraph)."""
-    prob = ms.Problem(
-        ms.SliderCrank,
-        variables={"crank": (0.02, 0.08), "rod": (0.15, 0.4), "offset": (-0.05, 0.05)},
-        speed=W,
-        angles=12,
-        slots=slots,
-    )
-    prob.minimize(ob.peak_acceleration("slider"))
-    return prob.subject_to(ob.stroke() == 0.1, ob.max_pressure_angle() <= 0.45)
 
 
 def test_merge_slots_moves_each_rows_multiplier_and_adds_the_merged_ones():

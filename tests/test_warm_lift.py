@@ -4,27 +4,12 @@ unchanged, the added angles' rows feasible, the unused slots ignored."""
 
 import numpy as np
 import pytest
+from test_refinement_slots import W, _minimized  # the same coarse-grid problem
 
 import mechsynth as ms
 from mechsynth import objectives as ob
 from mechsynth.synthesis import solvers as SV
 from mechsynth.synthesis import transcription as T
-
-W = ms.rpm(300)
-
-
-def _minimized(slots=None):
-    """A minimized peak (an epigraph) with a pressure-angle bound (a second one) on a coarse
-    grid (tests/test_refinement_slots.py's case)."""
-    prob = ms.Problem(
-        ms.SliderCrank,
-        variables={"crank": (0.02, 0.08), "rod": (0.15, 0.4), "offset": (-0.05, 0.05)},
-        speed=W,
-        angles=12,
-        slots=slots,
-    )
-    prob.minimize(ob.peak_acceleration("slider"))
-    return prob.subject_to(ob.stroke() == 0.1, ob.max_pressure_angle() <= 0.45)
 
 
 def test_lift_raises_each_epigraph_to_its_largest_row_on_the_grid():
