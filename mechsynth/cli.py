@@ -694,6 +694,16 @@ def main(argv=None) -> int:
         _INTERRUPTED.append(signum)
         signal.default_int_handler(signum, frame)
 
+    def quiet_interrupt(unraisable):
+        # our Ctrl-C / SIGTERM raised inside a finalizer (a weakref callback during garbage
+        # collection) is swallowed there and printed with a traceback; the run still ends as
+        # interrupted (``_INTERRUPTED``), with its one line
+        if isinstance(unraisable.exc_value, KeyboardInterrupt) and _INTERRUPTED and not debug:
+            return
+        previous_hook(unraisable)
+
+    previous_hook = sys.unraisablehook
+    sys.unraisablehook = quiet_interrupt
     previous = {}
     if threading.current_thread() is threading.main_thread():
         # SIGTERM (a batch system's stop) ends a run as Ctrl-C does: temporary files removed,
@@ -716,6 +726,7 @@ def main(argv=None) -> int:
     finally:
         for sig, handler in previous.items():
             signal.signal(sig, handler)
+        sys.unraisablehook = previous_hook
 
 
 def _interrupted() -> int:

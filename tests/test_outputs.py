@@ -242,3 +242,39 @@ def test_interrupted_at_every_write_of_a_run(tmp_path, monkeypatch, capsys):
         assert set(listed) == on_disk, (k, listed, on_disk)
         for name, digest in listed.items():
             assert fileio.sha256(out / name) == digest, (k, name)
+
+
+@pytest.mark.parametrize("sig, code, word", [(signal.SIGTERM, 143, "terminated"),
+                                             (signal.SIGINT, 130, "interrupted")])
+def test_an_interrupt_swallowed_by_a_finalizer_prints_no_traceback(monkeypatch, capsys, sig,
+                                                                   code, word):
+    """A signal that lands in a weakref callback during garbage collection (matplotlib's
+    transforms have them) raises KeyboardInterrupt there, where Python swallows it and prints
+    it with a traceback; the run goes on and still ends as interrupted, in one line."""
+    import gc
+    import weakref
+
+    from mechsynth import cli
+
+    class Thing:
+        pass
+
+    def run(argv, debug):
+        cli._INTERRUPTED.append(sig)  # what the handler records before it raises
+
+        def finalizer(_):
+            raise KeyboardInterrupt
+
+        t = Thing()
+        ref = weakref.ref(t, finalizer)  # noqa: F841  (kept until t goes)
+        del t
+        gc.collect()
+        return 0
+
+    monkeypatch.setattr(cli, "_run", run)
+    monkeypatch.setattr(sys, "unraisablehook", sys.__unraisablehook__)  # not pytest's own
+    before = sys.unraisablehook
+    assert cli.main(["animate", "x.toml"]) == code
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and word in err and len(err.strip().splitlines()) == 1
+    assert sys.unraisablehook is before
