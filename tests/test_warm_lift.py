@@ -4,10 +4,9 @@ unchanged, the added angles' rows feasible, the unused slots ignored."""
 
 import numpy as np
 import pytest
-from test_refinement_slots import W, _minimized  # the same coarse-grid problem
+from test_refinement_slots import W, _minimized, _rocker  # the same coarse-grid problem
 
 import mechsynth as ms
-from mechsynth import objectives as ob
 from mechsynth.synthesis import solvers as SV
 from mechsynth.synthesis import transcription as T
 
@@ -45,21 +44,6 @@ def test_lift_raises_each_epigraph_to_its_largest_row_on_the_grid():
         float(np.max(q)) / t_scales[0], rel=1e-12
     )
     assert want < float(np.max(q)) / t_scales[0] * (1 - 1e-6)
-
-
-def _rocker(slots=None):
-    """A four-bar's peak rocker acceleration on 8 angles: its certification re-solves in
-    twelve rounds with four slots (tests/test_refinement_slots.py's case)."""
-    prob = ms.Problem(
-        ms.FourBar,
-        variables={"crank": (0.02, 0.06), "coupler": (0.1, 0.3), "rocker": (0.08, 0.2)},
-        fixed={"ground": 0.2},
-        speed=W,
-        angles=8,
-        slots=slots,
-    )
-    prob.minimize(ob.peak_angular_acceleration("rocker"))
-    return prob.subject_to(ob.min_transmission_angle() >= ms.deg(40))
 
 
 def test_warm_rounds_of_fixed_slots_reach_the_same_certified_optimum(monkeypatch):

@@ -1240,10 +1240,8 @@ class Linkage(Drawable):
         return motion
 
     def _on_kernel(self, phi, omega, eps) -> Motion | None:
-        """The motion of this one numeric design on its structure's kernel (built or loaded on
-        first use), or None (no kernel, parameters not all numbers, an output not finite)."""
-        if not self._floats:
-            return None
+        """The motion of this one numeric design (every parameter a float) on its structure's
+        kernel (built or loaded on first use), or None (no kernel, an output not finite)."""
         lkk = _kernels()
         kernel = lkk.held_kernel(self) or lkk.linkage_kernel(self)
         if kernel is None:
